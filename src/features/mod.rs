@@ -1,0 +1,1 @@
+//! The 260-D pose features. (Being written.)

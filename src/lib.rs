@@ -1,0 +1,12 @@
+//! motion-stylizer: generative human motion stylization in latent space (Guo et al., ICLR 2024),
+//! for native use and WebAssembly.
+//!
+//! Pipeline stages, one module each: [`bvh`] (text ↔ motion), [`skeleton`] (kinematics,
+//! retargeting), [`features`] (the 260-D representation).
+
+pub mod bvh;
+pub mod features;
+pub mod motion;
+pub mod skeleton;
+
+pub use motion::{Motion, MotionError};

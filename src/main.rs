@@ -1,0 +1,2 @@
+//! The `motion-stylizer` command-line tool. (Subcommands being written.)
+fn main() {}
