@@ -96,11 +96,7 @@ impl Motion {
         // A reflection x → -x turns a rotation q = (w, x, y, z) into (w, x, -y, -z).
         let reflect = |q: DQuat| DQuat::from_xyzw(q.x, -q.y, -q.z, q.w);
         let root = self.root.iter().map(|p| DVec3::new(-p.x, p.y, p.z)).collect();
-        let rotations = self
-            .rotations
-            .iter()
-            .map(|pose| std::array::from_fn(|j| reflect(pose[MIRROR[j]])))
-            .collect();
+        let rotations = self.rotations.iter().map(|pose| std::array::from_fn(|j| reflect(pose[MIRROR[j]]))).collect();
         Motion { root, rotations }
     }
 
