@@ -5,7 +5,10 @@
 //! retargeting), [`features`] (the 260-D representation).
 
 pub mod bvh;
+pub mod dataset;
 pub mod features;
+#[cfg(feature = "model")]
+pub mod model;
 pub mod motion;
 pub mod skeleton;
 

@@ -10,7 +10,7 @@ mod parse;
 mod write;
 
 pub use error::BvhError;
-pub use parse::Limits;
+pub use parse::{Limits, MAX_CHANNELS_PER_JOINT};
 
 use glam::{DQuat, DVec3};
 
@@ -102,8 +102,12 @@ impl Bvh {
     /// position channels substituted component-wise) and rotation (rotation channels composed in file
     /// order, intrinsic: `R = R_c1 · R_c2 · R_c3`).
     pub fn local_transform(&self, frame: usize, joint: usize) -> (DVec3, DQuat) {
+        self.local_transform_in(self.frame(frame), joint)
+    }
+
+    /// [`Bvh::local_transform`] on a frame row already looked up (`row = self.frame(f)`).
+    fn local_transform_in(&self, row: &[f64], joint: usize) -> (DVec3, DQuat) {
         let j = &self.joints[joint];
-        let row = self.frame(frame);
         let mut t = j.offset;
         let mut r = DQuat::IDENTITY;
         for (k, ch) in j.channels.iter().enumerate() {
@@ -121,8 +125,9 @@ impl Bvh {
         let n = self.joints.len();
         let mut pos = Vec::with_capacity(n);
         let mut rot: Vec<DQuat> = Vec::with_capacity(n);
+        let row = self.frame(frame);
         for (i, j) in self.joints.iter().enumerate() {
-            let (t, r) = self.local_transform(frame, i);
+            let (t, r) = self.local_transform_in(row, i);
             match j.parent {
                 None => {
                     pos.push(t);

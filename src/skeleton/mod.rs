@@ -1,6 +1,18 @@
 //! Kinematics and rigs: the canonical skeleton, forward kinematics, and retargeting between a user's
 //! rig and the canonical one.
+//!
+//! [`import_bvh`] / [`import`] bring a BVH on any supported rig (Bandai, CMU-31, the 21-joint m21 rig,
+//! Reallusion CC_Base, Mixamo, or anything the generic matcher understands) onto the canonical rig at
+//! 30 fps; the returned [`UserRig`] takes canonical motions back to the user's skeleton
+//! ([`UserRig::from_canonical`]). See [`retarget`] for the method.
 
 pub mod canonical;
+mod import;
+pub mod resample;
+pub mod retarget;
+pub mod rigs;
+pub mod rotation;
 
 pub use canonical::{FPS, JOINT_NAMES, NUM_JOINTS};
+pub use import::{ImportError, Imported, canonical_bvh, import, import_bvh};
+pub use retarget::{RigReport, UserRig};

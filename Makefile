@@ -1,0 +1,47 @@
+# The two commands of the README: `make demo` and `make test`.
+SHELL := bash
+.SHELLFLAGS := -eu -o pipefail -c
+CARGO ?= cargo
+DEMO_OUT ?= out/demo
+
+DATA_SRC ?= ../shared/data/bandai-namco
+
+.PHONY: data demo test test-rust test-js setup-js bench fuzz clean
+
+## demo: build the CLI and run it on the bundled clips (inspect + retarget onto the canonical rig and back)
+demo:
+	$(CARGO) build --release --bin motion-stylizer
+	mkdir -p $(DEMO_OUT)
+	for f in tests/fixtures/foreign/*.bvh tests/fixtures/bandai/dataset-2_walk_elderly_001_f120.bvh; do \
+	  name=$$(basename $$f .bvh); \
+	  ./target/release/motion-stylizer inspect $$f; \
+	  ./target/release/motion-stylizer retarget $$f -o $(DEMO_OUT)/$$name.canonical.bvh; \
+	  ./target/release/motion-stylizer retarget $(DEMO_OUT)/$$name.canonical.bvh --onto $$f -o $(DEMO_OUT)/$$name.back.bvh; \
+	done
+	@echo "Demo outputs in $(DEMO_OUT)/ (open the .bvh files in any BVH viewer)"
+
+## test: every test — Rust unit/integration tests, then the three.js compatibility check in Node
+test: test-rust test-js
+
+test-rust:
+	$(CARGO) test --release
+
+setup-js:
+	cd tests/js && npm ci --no-audit --no-fund
+
+test-js: setup-js
+	node --test tests/js/
+
+## bench: parse + retarget + features throughput, and BVH parsing against three.js
+bench:
+	$(CARGO) run --release --example pipeline_throughput
+	bench/bvh_parse/run.sh
+
+## data: unpack the Bandai-Namco archives into data/ (git-ignored; needed only for training, eval and the full-size benchmarks)
+data:
+	mkdir -p data
+	for a in $(DATA_SRC)/dataset-1.tar.gz $(DATA_SRC)/dataset-2.tar.gz; do tar xzf $$a -C data; done
+
+clean:
+	$(CARGO) clean
+	rm -rf out tests/js/node_modules

@@ -1,0 +1,70 @@
+//! Command-line arguments and dispatch; one file per subcommand.
+
+mod inspect;
+mod retarget;
+mod split;
+
+use clap::{Parser, Subcommand};
+use std::path::{Path, PathBuf};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "motion-stylizer",
+    version,
+    about = "Generative human motion stylization: BVH import, retargeting, stylization"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Show a BVH file's joints, frames, frame rate, detected rig and matched canonical joints.
+    Inspect {
+        file: PathBuf,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Retarget a BVH onto the canonical rig at 30 fps, or onto the skeleton of another BVH.
+    Retarget {
+        file: PathBuf,
+        /// Output BVH path.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Put the motion on this BVH's skeleton instead of the canonical rig.
+        #[arg(long, value_name = "RIG.bvh")]
+        onto: Option<PathBuf>,
+    },
+    /// Choose the held-out takes of the Bandai-Namco data (writes the committed split file).
+    Split {
+        /// Folder with both archives unpacked: DIR/dataset-1, DIR/dataset-2.
+        #[arg(long)]
+        data: PathBuf,
+        #[arg(long, default_value_t = 2024)]
+        seed: u64,
+        #[arg(short, long, default_value = "assets/split/heldout.txt")]
+        output: PathBuf,
+    },
+}
+
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Inspect { file, json } => inspect::run(&file, json),
+        Command::Retarget { file, output, onto } => retarget::run(&file, &output, onto.as_deref()),
+        Command::Split { data, seed, output } => split::run(&data, seed, &output),
+    }
+}
+
+/// Reads a text file with the path in the error.
+fn read_text(path: &Path) -> anyhow::Result<String> {
+    use anyhow::Context;
+    std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))
+}
+
+/// Writes a text file with the path in the error.
+fn write_text(path: &Path, text: &str) -> anyhow::Result<()> {
+    use anyhow::Context;
+    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
+}

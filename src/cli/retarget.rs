@@ -1,0 +1,31 @@
+//! `motion-stylizer retarget FILE.bvh -o OUT.bvh [--onto RIG.bvh]`.
+
+use anyhow::Context;
+use motion_stylizer::bvh::Bvh;
+use motion_stylizer::skeleton::{self, UserRig};
+use std::path::Path;
+
+pub fn run(file: &Path, output: &Path, onto: Option<&Path>) -> anyhow::Result<()> {
+    let text = super::read_text(file)?;
+    let imported = skeleton::import_bvh(&text).with_context(|| format!("cannot import {}", file.display()))?;
+    let out = match onto {
+        None => imported.motion.to_bvh(),
+        Some(rig_path) => {
+            let rig_text = super::read_text(rig_path)?;
+            let rig_bvh = Bvh::parse(&rig_text).with_context(|| format!("cannot read {}", rig_path.display()))?;
+            let rig =
+                UserRig::from_bvh(&rig_bvh).with_context(|| format!("cannot use {} as a rig", rig_path.display()))?;
+            rig.from_canonical(&imported.motion)
+        }
+    };
+    super::write_text(output, &out.to_bvh_string())?;
+    eprintln!(
+        "{} ({}, {} frames) -> {} ({} frames at 30 fps)",
+        file.display(),
+        imported.rig.report().rig,
+        imported.motion.frames(),
+        output.display(),
+        out.frames
+    );
+    Ok(())
+}

@@ -1,0 +1,53 @@
+//! Entry points: BVH text or [`Bvh`] on any rig → [`Motion`] on the canonical rig, plus the
+//! [`UserRig`] that takes motions back to the user's skeleton.
+
+use super::retarget::UserRig;
+use crate::bvh::{Bvh, BvhError};
+use crate::motion::{Motion, MotionError};
+use thiserror::Error;
+
+/// Why a BVH could not be brought onto the canonical rig.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum ImportError {
+    #[error(transparent)]
+    Bvh(#[from] BvhError),
+    /// No naming scheme finds these required canonical joints; `rig` is the closest scheme.
+    #[error("rig {rig:?}: cannot find the joints {}", missing.join(", "))]
+    MissingJoints { missing: Vec<String>, rig: String },
+    /// The skeleton gives no usable geometry (zero-length bones, coincident hips, no leg height, …).
+    #[error("degenerate rig: {reason}")]
+    Degenerate { reason: String },
+    /// [`UserRig::to_canonical`] was given a BVH whose hierarchy is not the rig's.
+    #[error("the BVH's hierarchy is not the rig's: {reason}")]
+    RigMismatch { reason: String },
+    /// The clip is too long to resample (or its frame time absurd).
+    #[error("the clip lasts {seconds} s: more than {limit} frames at 30 fps")]
+    TooLong { seconds: f64, limit: usize },
+    /// The retargeted motion is not finite (values too large for the arithmetic).
+    #[error(transparent)]
+    Motion(#[from] MotionError),
+}
+
+/// A BVH brought onto the canonical rig, with the rig to take motions back.
+#[derive(Clone, Debug)]
+pub struct Imported {
+    pub motion: Motion,
+    pub rig: UserRig,
+}
+
+/// Parses BVH text, detects its rig, retargets to the canonical rig and resamples to 30 fps.
+pub fn import_bvh(text: &str) -> Result<Imported, ImportError> {
+    import(&Bvh::parse(text)?)
+}
+
+/// Detects the rig of `bvh`, retargets its motion to the canonical rig and resamples it to 30 fps.
+pub fn import(bvh: &Bvh) -> Result<Imported, ImportError> {
+    let rig = UserRig::from_bvh(bvh)?;
+    let motion = rig.to_canonical(bvh)?;
+    Ok(Imported { motion, rig })
+}
+
+/// The motion on the canonical rig as a BVH (what [`Motion::to_bvh`] writes).
+pub fn canonical_bvh(m: &Motion) -> Bvh {
+    m.to_bvh()
+}

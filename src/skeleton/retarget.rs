@@ -1,0 +1,676 @@
+//! Retargeting between a user's rig and the canonical rig.
+//!
+//! # Method
+//!
+//! * **World basis** `R_w` (user world → canonical world): from the rig's base pose, up = Hips → Head
+//!   and left = left hip − right hip, each snapped to the nearest coordinate axis, mapped onto +Y and
+//!   +X (forward = left × up onto +Z). Handles Z-up rigs and rigs facing −Z. Snapping keeps the floor
+//!   level: the lean of a standing base pose would otherwise tilt the whole world by a few degrees.
+//! * **Base pose**: the zero-rotation rest pose, unless it needs a bone swung by more than 120° (twist
+//!   undefined near 180°): then Bandai (all bones along +X at rest) and CC_Base (legs and arms up) use
+//!   a table ([`super::rigs`]) and other rigs the clip frame needing the smallest swings. (The rest
+//!   pose comes first so that a canonical BVH, Bandai names on a T-pose rest, imports as itself.)
+//! * **T-pose** `G_T[u]` (user world global rotations of the user skeleton posed like the canonical
+//!   T-pose), root to leaves: `G_base[u] = G_T[parent] · L_base[u]`; a matched joint then turns by the
+//!   rotation taking its bone, mapped by `R_w`, onto the canonical T-pose bone. Bones end at the first
+//!   matched canonical descendant whose user joint is not at the same place (CMU's `Spine1 → Neck` has
+//!   length zero). Hips and the arms' root (Chest) align two vectors, up (towards the spine / neck)
+//!   and across (left minus right hip / shoulder), so their twist is defined; the others swing
+//!   minimally; leaves (Head, Hands, Toes) and unmatched joints inherit.
+//! * **Transfer** (canonical T-pose frames are identity): `G_can[j] = R_w · G_user[u] · G_T[u]⁻¹ · R_w⁻¹`
+//!   for matched joints, unmatched canonical joints get identity local rotations. Back:
+//!   `G_user[u] = R_w⁻¹ · G_can[j] · R_w · G_T[u]`; unmatched user joints keep their base local
+//!   rotation. Hips position: `scale · R_w · p` horizontally, with `scale` = canonical leg length /
+//!   user leg length (Hips height above the toes, or ankles, in the two T-poses; converts units too).
+//! * **Height and floor**: the Hips height is set per frame so that the lowest matched foot/toe joint
+//!   is where the source's is, scaled: `scale · (low_user(t) − floor_clip) + foot_rest`, where
+//!   `floor_clip` is the [`FLOOR_PERCENTILE`] (5th) over the clip's frames of `low_user` measured along
+//!   the user's up axis, and `foot_rest` is 0 (or the canonical ankle height for rigs without toes). So
+//!   the canonical floor is at 0 (the percentile lands there) and feet in contact stay in contact even
+//!   when leg proportions differ (scaling the Hips height instead floats or sinks the feet in squats).
+//!   Back, the user's lowest foot joint goes to `(low_can(t) − foot_rest) / scale + floor`, `floor`
+//!   being the level of the clip the rig was built from ([`RigReport::floor`]). Both directions use
+//!   the same rule: canonical → user → canonical is exact for canonical motions whose floor percentile
+//!   is at 0 (every imported motion), user → canonical → user for the rig's own clip wherever the
+//!   matched joints carry the motion (unmatched joints between matched ones come back at rest).
+//! * **Frame rate**: the canonical motion is resampled to 30 fps after the transfer
+//!   ([`super::resample`]).
+
+use super::ImportError;
+use super::canonical::{self, JOINT_NAMES, NUM_JOINTS, PARENTS, joint::*};
+use super::resample;
+use super::rigs::{self, JointMap};
+use super::rotation::{align_two, angle, decompose, swing, world_basis};
+use crate::bvh::{Axis, Bvh, BvhJoint, Channel};
+use crate::motion::{Motion, Pose, forward_kinematics};
+use glam::{DQuat, DVec3};
+
+/// Percentile of the per-frame lowest foot height that defines the floor.
+pub const FLOOR_PERCENTILE: f64 = 0.05;
+
+/// Largest swing (degrees) a rest pose may need before it is replaced by a clip frame.
+const MAX_REST_SWING_DEG: f64 = 120.0;
+
+/// Most frames examined when looking for a base pose in the clip.
+const MAX_BASE_CANDIDATES: usize = 240;
+
+/// What was detected and derived, for display.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RigReport {
+    /// `"bandai"`, `"cmu31"`, `"m21"`, `"cc_base"`, `"mixamo"` or `"generic"`.
+    pub rig: String,
+    /// Canonical joint name → user joint name, canonical order.
+    pub matched: Vec<(String, String)>,
+    /// Canonical joints the rig lacks (optional ones: they get identity local rotations).
+    pub missing: Vec<String>,
+    /// Canonical centimetres per user unit.
+    pub scale: f64,
+    /// User axis pointing up, e.g. `"+Y"`, and forward (the character's facing in the base pose).
+    pub up_axis: String,
+    pub forward_axis: String,
+    /// Floor level in user units along the up axis (see the module docs).
+    pub floor: f64,
+    /// Where the base pose came from: `"rest"`, `"table"` or `"frame N"`.
+    pub base_pose: String,
+}
+
+/// A user's rig and everything needed to retarget to and from the canonical rig.
+#[derive(Clone, Debug)]
+pub struct UserRig {
+    joints: Vec<BvhJoint>,
+    /// Rest translation of each joint: its OFFSET, position-channel components from the first frame
+    /// (writers may zero the OFFSET components that channels replace).
+    rest_t: Vec<DVec3>,
+    map: JointMap,
+    inverse: Vec<Option<usize>>,
+    base_local: Vec<DQuat>,
+    t_global: Vec<DQuat>,
+    world: DQuat,
+    scale: f64,
+    floor: f64,
+    /// Root … Hips, in order.
+    hips_chain: Vec<usize>,
+    /// The joint of `hips_chain` whose position channels carry the Hips translation.
+    carrier: Option<usize>,
+    /// Matched foot/toe joints: canonical indices and their user joints.
+    feet_can: Vec<usize>,
+    feet_user: Vec<usize>,
+    /// Canonical T-pose height of the lowest matched foot joint above the lowest foot joint (0 when
+    /// toes are matched, the ankle height when not).
+    foot_rest: f64,
+    report: RigReport,
+}
+
+/// Geometry derived from a base pose.
+struct Core {
+    t_global: Vec<DQuat>,
+    world: DQuat,
+    scale: f64,
+    max_swing: f64,
+}
+
+fn degenerate(reason: impl Into<String>) -> ImportError {
+    ImportError::Degenerate { reason: reason.into() }
+}
+
+/// What [`Bvh::parse`] guarantees, checked for hand-built values: a root first, parents before
+/// children, channel offsets in order, `frames × channels` values, a positive frame time.
+fn well_formed(bvh: &Bvh) -> Result<(), ImportError> {
+    let mut offset = 0;
+    for (i, j) in bvh.joints.iter().enumerate() {
+        let parent_ok = match j.parent {
+            None => i == 0,
+            Some(p) => p < i,
+        };
+        if !parent_ok || j.channel_offset != offset {
+            return Err(degenerate(format!("malformed hierarchy at joint {:?}", j.name)));
+        }
+        offset += j.channels.len();
+    }
+    if bvh.joints.is_empty() || bvh.frames == 0 || bvh.values.len() != bvh.frames * offset {
+        return Err(degenerate("no joints, no frames, or not frames × channels values"));
+    }
+    if !(bvh.frame_time.is_finite() && bvh.frame_time > 0.0) {
+        return Err(degenerate("the frame time must be positive"));
+    }
+    Ok(())
+}
+
+/// Canonical T-pose global positions (Hips at the origin).
+fn canonical_tpose() -> [DVec3; NUM_JOINTS] {
+    forward_kinematics(DVec3::ZERO, &[DQuat::IDENTITY; NUM_JOINTS]).0
+}
+
+/// Forward kinematics from rest translations `rest_t` and given local rotations.
+fn fk(joints: &[BvhJoint], rest_t: &[DVec3], local: &[DQuat]) -> (Vec<DVec3>, Vec<DQuat>) {
+    let mut pos = Vec::with_capacity(joints.len());
+    let mut rot: Vec<DQuat> = Vec::with_capacity(joints.len());
+    for (u, j) in joints.iter().enumerate() {
+        match j.parent {
+            None => {
+                pos.push(rest_t[u]);
+                rot.push(local[u]);
+            }
+            Some(p) => {
+                pos.push(pos[p] + rot[p] * rest_t[u]);
+                rot.push(rot[p] * local[u]);
+            }
+        }
+    }
+    (pos, rot)
+}
+
+/// Linear-interpolated percentile (`p` in [0, 1]) of `v`; NaN sorts last.
+fn percentile(v: &mut [f64], p: f64) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(|a, b| a.total_cmp(b));
+    let x = p * (v.len() - 1) as f64;
+    let (lo, t) = (x.floor() as usize, x - x.floor());
+    if lo + 1 < v.len() { v[lo] * (1.0 - t) + v[lo + 1] * t } else { v[lo] }
+}
+
+fn axis_name(v: DVec3) -> String {
+    let (s, a) = if v.x.abs() > 0.5 {
+        (v.x, "X")
+    } else if v.y.abs() > 0.5 {
+        (v.y, "Y")
+    } else {
+        (v.z, "Z")
+    };
+    format!("{}{a}", if s > 0.0 { "+" } else { "-" })
+}
+
+const FEET: [usize; 4] = [FOOT_L, TOES_L, FOOT_R, TOES_R];
+const CENTRE: [usize; 4] = [SPINE, CHEST, NECK, HEAD];
+const ARM_L: [usize; 4] = [SHOULDER_L, UPPER_ARM_L, LOWER_ARM_L, HAND_L];
+const ARM_R: [usize; 4] = [SHOULDER_R, UPPER_ARM_R, LOWER_ARM_R, HAND_R];
+const LEG_L: [usize; 4] = [UPPER_LEG_L, LOWER_LEG_L, FOOT_L, TOES_L];
+const LEG_R: [usize; 4] = [UPPER_LEG_R, LOWER_LEG_R, FOOT_R, TOES_R];
+
+/// How a matched joint's T-pose rotation is found.
+enum Aim {
+    /// Leaf: inherit.
+    None,
+    /// Swing the bone towards canonical joint `to`.
+    Swing(usize),
+    /// Align up (towards canonical joint `up`) and across (left joint minus right joint).
+    Two { up: usize, left: usize, right: usize },
+}
+
+impl UserRig {
+    /// Detects the rig of `bvh` (its hierarchy; the frames only serve as base pose when the rest pose
+    /// is no use, and to measure the floor) and derives the retargeting.
+    pub fn from_bvh(bvh: &Bvh) -> Result<UserRig, ImportError> {
+        well_formed(bvh)?;
+        let joints = bvh.joints.clone();
+        let det = rigs::detect(&joints)
+            .map_err(|e| ImportError::MissingJoints { missing: e.missing, rig: e.rig.to_string() })?;
+        let map = det.map;
+        let mut inverse = vec![None; joints.len()];
+        for (j, u) in map.iter().enumerate() {
+            if let Some(u) = u {
+                inverse[*u] = Some(j);
+            }
+        }
+
+        let rest_t: Vec<DVec3> = (0..joints.len()).map(|u| bvh.local_transform(0, u).0).collect();
+        // Base pose: the rest pose if usable, else the scheme's table, else the best clip frame.
+        let rest = vec![DQuat::IDENTITY; joints.len()];
+        let rest_core = build(&joints, &rest_t, &map, &inverse, &rest);
+        let (base_local, core, base_name) = match (rest_core, det.base_pose) {
+            (Ok(core), _) if core.max_swing <= MAX_REST_SWING_DEG.to_radians() => (rest, core, "rest".to_string()),
+            (Err(e), None) => return Err(e),
+            (_, Some(table)) => {
+                let base: Vec<DQuat> = joints
+                    .iter()
+                    .map(|j| {
+                        let n = rigs::normalise(&j.name);
+                        table
+                            .iter()
+                            .find(|(t, _)| rigs::normalise(t) == n)
+                            .map(|(_, q)| DQuat::from_array(*q).normalize())
+                            .unwrap_or(DQuat::IDENTITY)
+                    })
+                    .collect();
+                let core = build(&joints, &rest_t, &map, &inverse, &base)?;
+                (base, core, "table".to_string())
+            }
+            (Ok(rest_core), None) => {
+                // Take the clip frame needing the smallest swings.
+                let step = bvh.frames.div_ceil(MAX_BASE_CANDIDATES).max(1);
+                let mut best: Option<(Vec<DQuat>, Core, usize)> = None;
+                for f in (0..bvh.frames).step_by(step) {
+                    let base: Vec<DQuat> = (0..joints.len()).map(|u| bvh.local_transform(f, u).1).collect();
+                    if let Ok(core) = build(&joints, &rest_t, &map, &inverse, &base)
+                        && best.as_ref().is_none_or(|b| core.max_swing < b.1.max_swing)
+                    {
+                        best = Some((base, core, f));
+                    }
+                }
+                match best {
+                    Some((base, core, f)) if core.max_swing < rest_core.max_swing => (base, core, format!("frame {f}")),
+                    _ => (rest, rest_core, "rest".into()),
+                }
+            }
+        };
+
+        // The chain root … Hips and the joint carrying the translation.
+        let hips = map[HIPS].expect("required");
+        let mut hips_chain = vec![hips];
+        while let Some(p) = joints[*hips_chain.last().expect("non-empty")].parent {
+            hips_chain.push(p);
+        }
+        hips_chain.reverse();
+        let has_pos = |u: usize| joints[u].channels.iter().any(|c| matches!(c, Channel::Position(_)));
+        let carrier = hips_chain.iter().rev().copied().find(|&u| has_pos(u));
+
+        let feet_can: Vec<usize> = FEET.iter().copied().filter(|&j| map[j].is_some()).collect();
+        let feet_user: Vec<usize> = feet_can.iter().map(|&j| map[j].expect("matched")).collect();
+        let can = canonical_tpose();
+        let lowest = |js: &[usize]| js.iter().map(|&j| can[j].y).fold(f64::INFINITY, f64::min);
+        let foot_rest = lowest(&feet_can) - lowest(&FEET);
+        let up = core.world.inverse() * DVec3::Y;
+        let fwd = core.world.inverse() * DVec3::Z;
+        let mut rig = UserRig {
+            report: RigReport {
+                rig: det.rig.to_string(),
+                matched: (0..NUM_JOINTS)
+                    .filter_map(|j| map[j].map(|u| (JOINT_NAMES[j].to_string(), joints[u].name.clone())))
+                    .collect(),
+                missing: (0..NUM_JOINTS).filter(|&j| map[j].is_none()).map(|j| JOINT_NAMES[j].to_string()).collect(),
+                scale: core.scale,
+                up_axis: axis_name(up),
+                forward_axis: axis_name(fwd),
+                floor: 0.0,
+                base_pose: base_name,
+            },
+            joints,
+            rest_t,
+            map,
+            inverse,
+            base_local,
+            t_global: core.t_global,
+            world: core.world,
+            scale: core.scale,
+            floor: 0.0,
+            hips_chain,
+            carrier,
+            feet_can,
+            feet_user,
+            foot_rest,
+        };
+        let plan = resample::plan(bvh.frames, resample::source_fps(bvh.frame_time))?;
+        let floor = percentile(&mut rig.user_lows(bvh, &plan), FLOOR_PERCENTILE);
+        if !floor.is_finite() {
+            return Err(degenerate("the feet's heights are not finite"));
+        }
+        rig.floor = floor;
+        rig.report.floor = floor;
+        Ok(rig)
+    }
+
+    /// What was detected and derived.
+    pub fn report(&self) -> &RigReport {
+        &self.report
+    }
+
+    /// The user's skeleton (hierarchy and channels).
+    pub fn joints(&self) -> &[BvhJoint] {
+        &self.joints
+    }
+
+    /// Canonical joint → user joint index.
+    pub fn joint_map(&self) -> &JointMap {
+        &self.map
+    }
+
+    /// The user's up direction (user world).
+    pub fn up(&self) -> DVec3 {
+        self.world.inverse() * DVec3::Y
+    }
+
+    /// Canonical centimetres per user unit.
+    pub fn scale(&self) -> f64 {
+        self.scale
+    }
+
+    /// User world → canonical world rotation.
+    pub fn world_rotation(&self) -> DQuat {
+        self.world
+    }
+
+    /// Per output (30-fps) frame of a clip on this rig, the height along up of its lowest matched
+    /// foot/toe joint (feet positions interpolated linearly between source frames).
+    fn user_lows(&self, bvh: &Bvh, plan: &[resample::Sample]) -> Vec<f64> {
+        let up = self.up();
+        let at = |f: usize| -> Vec<DVec3> {
+            let (pos, _) = bvh.global_pose(f);
+            self.feet_user.iter().map(|&u| pos[u]).collect()
+        };
+        let mut memo: Vec<Option<Vec<DVec3>>> = vec![None; bvh.frames];
+        let mut lows = Vec::with_capacity(plan.len());
+        for s in plan {
+            let next = (s.i + 1).min(bvh.frames - 1);
+            for f in [s.i, next] {
+                if memo[f].is_none() {
+                    memo[f] = Some(at(f));
+                }
+            }
+            let (a, b) = (memo[s.i].as_deref().unwrap_or_default(), memo[next].as_deref().unwrap_or_default());
+            let low = a
+                .iter()
+                .zip(b)
+                .map(|(a, b)| up.dot(if s.t > 0.0 { a.lerp(*b, s.t) } else { *a }))
+                .fold(f64::INFINITY, f64::min);
+            lows.push(low);
+        }
+        lows
+    }
+
+    /// Lowest matched foot/toe joint height of a canonical pose.
+    fn canonical_low(&self, pos: &[DVec3; NUM_JOINTS]) -> f64 {
+        self.feet_can.iter().map(|&j| pos[j].y).fold(f64::INFINITY, f64::min)
+    }
+
+    fn check_hierarchy(&self, bvh: &Bvh) -> Result<(), ImportError> {
+        let mismatch = |reason: String| Err(ImportError::RigMismatch { reason });
+        if bvh.joints.len() != self.joints.len() {
+            return mismatch(format!("{} joints, the rig has {}", bvh.joints.len(), self.joints.len()));
+        }
+        for (a, b) in bvh.joints.iter().zip(&self.joints) {
+            if a.name != b.name || a.parent != b.parent || a.channels != b.channels {
+                return mismatch(format!("joint {:?} differs", a.name));
+            }
+            // Components a position channel replaces do not count (writers often zero them).
+            let free = |v: DVec3| {
+                let mut v = v;
+                for c in &b.channels {
+                    if let Channel::Position(x) = c {
+                        v[x.index()] = 0.0;
+                    }
+                }
+                v
+            };
+            let tol = 1e-6 * (1.0 + b.offset.length());
+            if (free(a.offset) - free(b.offset)).length() > tol {
+                return mismatch(format!("joint {:?} has another OFFSET", a.name));
+            }
+        }
+        well_formed(bvh)
+    }
+
+    /// The motion of `bvh` (this rig's hierarchy, any frame rate) on the canonical rig at 30 fps.
+    pub fn to_canonical(&self, bvh: &Bvh) -> Result<Motion, ImportError> {
+        self.check_hierarchy(bvh)?;
+        let plan = resample::plan(bvh.frames, resample::source_fps(bvh.frame_time))?;
+        let (w, wi) = (self.world, self.world.inverse());
+        let t_inv: Vec<DQuat> = self.t_global.iter().map(|q| q.inverse()).collect();
+        let hips = self.map[HIPS].expect("required");
+        let mut roots = Vec::with_capacity(bvh.frames);
+        let mut poses: Vec<Pose> = Vec::with_capacity(bvh.frames);
+        for f in 0..bvh.frames {
+            let (pos, rot) = bvh.global_pose(f);
+            let mut g = [DQuat::IDENTITY; NUM_JOINTS];
+            let mut local = [DQuat::IDENTITY; NUM_JOINTS];
+            for j in 0..NUM_JOINTS {
+                let parent = PARENTS[j].map(|p| g[p]).unwrap_or(DQuat::IDENTITY);
+                g[j] = match self.map[j] {
+                    Some(u) => (w * rot[u] * t_inv[u] * wi).normalize(),
+                    None => parent,
+                };
+                local[j] = (parent.inverse() * g[j]).normalize();
+            }
+            roots.push(self.scale * (w * pos[hips]));
+            poses.push(local);
+        }
+        let (mut roots, poses) = resample::apply(&plan, &roots, &poses);
+        // Height: the lowest foot joint at the source's (scaled, relative to the clip's floor).
+        let mut lows = self.user_lows(bvh, &plan);
+        let src_floor = percentile(&mut lows.clone(), FLOOR_PERCENTILE);
+        for ((r, p), low) in roots.iter_mut().zip(&poses).zip(&mut lows) {
+            let target = self.scale * (*low - src_floor) + self.foot_rest;
+            r.y += target - self.canonical_low(&forward_kinematics(*r, p).0);
+        }
+        Ok(Motion::new(roots, poses)?)
+    }
+
+    /// The canonical motion `m` on this rig: a BVH with the rig's hierarchy and channels at 30 fps.
+    pub fn from_canonical(&self, m: &Motion) -> Bvh {
+        let n = self.joints.iter().map(|j| j.channels.len()).sum::<usize>();
+        let (wi, up) = (self.world.inverse(), self.up());
+        let mut values = vec![0.0; n * m.frames()];
+        for (f, row) in values.chunks_exact_mut(n.max(1)).enumerate().take(m.frames()) {
+            let (pos, g) = m.global_pose(f);
+            let p = wi * m.root_positions()[f] / self.scale;
+            let target = (self.canonical_low(&pos) - self.foot_rest) / self.scale + self.floor;
+            let mut posed = self.user_pose(&g, p);
+            let low = self.feet_user.iter().map(|&u| up.dot(posed.2[u])).fold(f64::INFINITY, f64::min);
+            let delta = target - low;
+            if delta.is_finite() && delta != 0.0 {
+                posed = self.user_pose(&g, p + up * delta);
+            }
+            self.fill_row(&posed.0, posed.1, row);
+        }
+        Bvh { joints: self.joints.clone(), frame_time: 1.0 / canonical::FPS, frames: m.frames(), values }
+    }
+
+    /// One frame on the user rig from canonical global rotations `g_can` and the Hips position `p`
+    /// (user world): local rotations, the translation carried by the carrier joint, positions.
+    fn user_pose(&self, g_can: &[DQuat; NUM_JOINTS], p: DVec3) -> (Vec<DQuat>, Option<(usize, DVec3)>, Vec<DVec3>) {
+        let (w, wi) = (self.world, self.world.inverse());
+        let nj = self.joints.len();
+        let mut g = vec![DQuat::IDENTITY; nj];
+        let mut local = vec![DQuat::IDENTITY; nj];
+        for (u, joint) in self.joints.iter().enumerate() {
+            let parent = joint.parent.map(|q| g[q]).unwrap_or(DQuat::IDENTITY);
+            g[u] = match self.inverse[u] {
+                Some(j) => (wi * g_can[j] * w * self.t_global[u]).normalize(),
+                None => (parent * self.base_local[u]).normalize(),
+            };
+            local[u] = (parent.inverse() * g[u]).normalize();
+        }
+        // Translation of the carrier so that the Hips land on `p` (joints between keep their OFFSETs).
+        let mut carried = None;
+        if let Some(c) = self.carrier {
+            let k = self.hips_chain.iter().position(|&u| u == c).expect("carrier is on the chain");
+            let mut above = DVec3::ZERO; // position of the carrier's parent
+            for &u in &self.hips_chain[..k] {
+                above = match self.joints[u].parent {
+                    Some(q) => above + g[q] * self.rest_t[u],
+                    None => self.rest_t[u],
+                };
+            }
+            let mut below = DVec3::ZERO; // carrier → Hips
+            for &u in &self.hips_chain[k + 1..] {
+                below += g[self.joints[u].parent.expect("below the carrier")] * self.rest_t[u];
+            }
+            let t = match self.joints[c].parent {
+                Some(q) => g[q].inverse() * (p - below - above),
+                None => p - below,
+            };
+            carried = Some((c, t));
+        }
+        let mut pos = vec![DVec3::ZERO; nj];
+        for (u, joint) in self.joints.iter().enumerate() {
+            let mut t = self.rest_t[u];
+            if let Some((c, tc)) = carried
+                && c == u
+            {
+                for ch in &joint.channels {
+                    if let Channel::Position(a) = ch {
+                        t[a.index()] = tc[a.index()];
+                    }
+                }
+            }
+            pos[u] = match joint.parent {
+                Some(q) => pos[q] + g[q] * t,
+                None => t,
+            };
+        }
+        (local, carried, pos)
+    }
+
+    /// Channel values of one frame: rotations in each joint's channel order, position channels the
+    /// rest translation (the carrier: its translation).
+    fn fill_row(&self, local: &[DQuat], carried: Option<(usize, DVec3)>, row: &mut [f64]) {
+        let mut k = 0;
+        for (u, joint) in self.joints.iter().enumerate() {
+            let t = match carried {
+                Some((c, t)) if c == u => t,
+                _ => self.rest_t[u],
+            };
+            let axes: Vec<Axis> = joint
+                .channels
+                .iter()
+                .filter_map(|c| match c {
+                    Channel::Rotation(a) => Some(*a),
+                    Channel::Position(_) => None,
+                })
+                .collect();
+            let mut angles = decompose(local[u], &axes).into_iter();
+            for ch in &joint.channels {
+                let v = match ch {
+                    Channel::Position(a) => t[a.index()],
+                    Channel::Rotation(_) => angles.next().unwrap_or(0.0),
+                };
+                row[k] = if v.is_finite() { v } else { 0.0 };
+                k += 1;
+            }
+        }
+    }
+}
+
+/// T-pose, world basis and scale of a rig in base pose `base_local`.
+fn build(
+    joints: &[BvhJoint],
+    rest_t: &[DVec3],
+    map: &JointMap,
+    inverse: &[Option<usize>],
+    base_local: &[DQuat],
+) -> Result<Core, ImportError> {
+    let (pos0, g0) = fk(joints, rest_t, base_local);
+    let matched_pos: Vec<DVec3> = map.iter().flatten().map(|&u| pos0[u]).collect();
+    let hips = map[HIPS].expect("required");
+    let size = matched_pos.iter().map(|p| (*p - pos0[hips]).length()).fold(0.0, f64::max);
+    if !(size.is_finite() && size > 0.0) || g0.iter().any(|q| !q.is_finite()) {
+        return Err(degenerate("the skeleton has no extent"));
+    }
+    let eps = 1e-6 * size;
+    let p = |j: usize| map[j].map(|u| pos0[u]);
+    let distinct = |a: usize, b: usize| match (p(a), p(b)) {
+        (Some(x), Some(y)) => (x - y).length() > eps,
+        _ => false,
+    };
+    let first_pair =
+        |pairs: (&[usize], &[usize])| pairs.0.iter().zip(pairs.1).map(|(&l, &r)| (l, r)).find(|&(l, r)| distinct(l, r));
+
+    // World basis.
+    let up = p(HEAD).expect("required") - pos0[hips];
+    let (l, r) = first_pair((&LEG_L, &LEG_R)).ok_or_else(|| degenerate("the left and right legs coincide"))?;
+    if up.length() <= eps {
+        return Err(degenerate("the Head is at the Hips"));
+    }
+    let world = world_basis(up, p(l).expect("matched") - p(r).expect("matched"))
+        .ok_or_else(|| degenerate("cannot tell up from left: the hips line up with the Head"))?;
+    let wi = world.inverse();
+
+    // Aims.
+    let arm_root = {
+        let first = if map[SHOULDER_L].is_some() { SHOULDER_L } else { UPPER_ARM_L };
+        let mut a = PARENTS[first];
+        while let Some(x) = a {
+            if map[x].is_some() {
+                break;
+            }
+            a = PARENTS[x];
+        }
+        a.unwrap_or(HIPS)
+    };
+    let first_after = |j: usize, list: &[usize]| -> Option<usize> {
+        let start = list.iter().position(|&x| x == j).map(|i| i + 1).unwrap_or(0);
+        list[start..].iter().copied().find(|&x| map[x].is_some() && distinct(j, x))
+    };
+    let aim = |j: usize| -> Result<Aim, ImportError> {
+        if j == HIPS || j == arm_root {
+            let up = first_after(j, &CENTRE).ok_or_else(|| degenerate("the spine has no length"))?;
+            let pairs = if j == HIPS { (&LEG_L, &LEG_R) } else { (&ARM_L, &ARM_R) };
+            return match first_pair((pairs.0, pairs.1)) {
+                Some((left, right)) => Ok(Aim::Two { up, left, right }),
+                None if j == HIPS => Err(degenerate("the left and right legs coincide")),
+                None => Ok(Aim::Swing(up)),
+            };
+        }
+        let chain: &[usize] = [&CENTRE, &ARM_L, &ARM_R, &LEG_L, &LEG_R]
+            .into_iter()
+            .find(|c| c.contains(&j))
+            .map(|c| c.as_slice())
+            .unwrap_or(&[]);
+        Ok(first_after(j, chain).map(Aim::Swing).unwrap_or(Aim::None))
+    };
+
+    let can = canonical_tpose();
+    let mut t_global = vec![DQuat::IDENTITY; joints.len()];
+    let mut max_swing = 0.0f64;
+    for (u, joint) in joints.iter().enumerate() {
+        let cur = match joint.parent {
+            Some(q) => t_global[q] * base_local[u],
+            None => base_local[u],
+        };
+        t_global[u] = cur;
+        let Some(j) = inverse[u] else { continue };
+        // Vector from u to a user joint, in the current (partly corrected) pose, canonical world.
+        let g0_inv = g0[u].inverse();
+        let vec_to = |x: usize| world * (cur * (g0_inv * (pos0[map[x].expect("matched")] - pos0[u])));
+        let s = match aim(j)? {
+            Aim::None => DQuat::IDENTITY,
+            Aim::Swing(x) => swing(vec_to(x), can[x] - can[j], DVec3::Z)
+                .ok_or_else(|| degenerate(format!("bone {} has no direction", JOINT_NAMES[j])))?,
+            Aim::Two { up, left, right } => {
+                align_two(vec_to(up), vec_to(left) - vec_to(right), can[up] - can[j], can[left] - can[right])
+                    .ok_or_else(|| degenerate(format!("{}: up and across are parallel", JOINT_NAMES[j])))?
+            }
+        };
+        max_swing = max_swing.max(angle(s));
+        t_global[u] = (wi * s * world * cur).normalize();
+    }
+
+    // Scale: Hips height above the toes (ankles if a side lacks toes) in both T-poses.
+    let mut pos_t = vec![DVec3::ZERO; joints.len()];
+    for (u, joint) in joints.iter().enumerate() {
+        pos_t[u] = match joint.parent {
+            Some(q) => pos_t[q] + t_global[q] * rest_t[u],
+            None => rest_t[u],
+        };
+    }
+    let ends = if map[TOES_L].is_some() && map[TOES_R].is_some() { [TOES_L, TOES_R] } else { [FOOT_L, FOOT_R] };
+    let h_user: f64 =
+        ends.iter().map(|&e| (world * (pos_t[hips] - pos_t[map[e].expect("matched")])).y).sum::<f64>() / 2.0;
+    let h_can: f64 = ends.iter().map(|&e| can[HIPS].y - can[e].y).sum::<f64>() / 2.0;
+    let scale = h_can / h_user;
+    if !(h_user > eps && scale.is_finite() && scale > 0.0) {
+        return Err(degenerate("the legs have no height"));
+    }
+    Ok(Core { t_global, world, scale, max_swing })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percentile_interpolates() {
+        let mut v = vec![4.0, 1.0, 3.0, 2.0, 5.0];
+        assert_eq!(percentile(&mut v, 0.0), 1.0);
+        assert_eq!(percentile(&mut v, 0.5), 3.0);
+        assert!((percentile(&mut v, 0.05) - 1.2).abs() < 1e-12);
+        assert_eq!(percentile(&mut [7.0], 0.05), 7.0);
+    }
+
+    #[test]
+    fn canonical_tpose_leg_height_is_leg_length() {
+        let c = canonical_tpose();
+        assert!((c[HIPS].y - c[TOES_L].y - canonical::leg_length()).abs() < 1e-9);
+    }
+}
