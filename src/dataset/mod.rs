@@ -1,7 +1,10 @@
 //! The Bandai-Namco training data: take names, the unified style-label set, and the fixed split.
 //!
-//! Pure functions only (no file system), so the label set also serves inference and wasm.
+//! `labels` and `split` are pure (no file system), so the label set also serves inference and wasm;
+//! `corpus` reads the data from disk (native only).
 
+#[cfg(not(target_arch = "wasm32"))]
+pub mod corpus;
 pub mod labels;
 pub mod split;
 
