@@ -1,0 +1,167 @@
+//! Network sizes and training settings ([`ModelConfig`]), serialisable so a weights file can carry
+//! the exact architecture it was trained with.
+//!
+//! Defaults are the paper's sizes (`/work/shared/reference/model-facts.md`); [`ModelConfig::scaled`]
+//! shrinks every *internal* width by one factor (input/output sizes fixed by the 260-D pose
+//! features stay as they are).
+
+use serde::{Deserialize, Serialize};
+
+/// Number of numbers per frame of the pose features.
+pub const FEATURE_DIM: usize = 260;
+/// Dims the motion autoencoder sees: the features without the 4 foot contacts.
+pub const AE_INPUT_DIM: usize = FEATURE_DIM - 4;
+/// Dims the global motion regressor sees: root angular velocity (1) + everything from the root
+/// height on without the contacts (253), i.e. the features minus the 2 root ground velocities and
+/// the 4 contacts. See [`crate::model::regressor`].
+pub const REGRESSOR_INPUT_DIM: usize = FEATURE_DIM - 4 - 2;
+/// The regressor predicts the root's ground velocity (x, z) in the facing frame.
+pub const REGRESSOR_OUTPUT_DIM: usize = 2;
+/// Clip lengths (frames) must be a multiple of this: the latent is at 1/4 rate, the content code
+/// at 1/8.
+pub const FRAME_MULTIPLE: usize = 8;
+
+/// Architecture of all networks. Widths are channel counts of 1-D convolutions over time.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct ModelConfig {
+    /// Motion encoder first hidden width (paper 384); also the decoder's last hidden width.
+    pub ae_hidden: usize,
+    /// Motion encoder second hidden width (paper 512); also the decoder's first upsampling width.
+    pub ae_mid: usize,
+    /// Motion latent channels `D_z` (paper 512), at 1/4 of the frame rate.
+    pub latent_dim: usize,
+    /// Content encoder hidden width (paper 768).
+    pub content_hidden: usize,
+    /// Content code channels (paper 512), at 1/8 of the frame rate.
+    pub content_dim: usize,
+    /// Style encoder hidden widths (paper 768, 768).
+    pub style_hidden: [usize; 2],
+    /// Style code size (paper 512); the encoder's last layer gives twice this (mean, log-variance).
+    pub style_dim: usize,
+    /// Generator style-block widths (paper 768, 1024, 768); the last block upsamples ×2.
+    pub generator_hidden: [usize; 3],
+    /// Global motion regressor hidden widths (paper 512, 256, 128).
+    pub regressor_hidden: [usize; 3],
+    /// Style classifier strided-conv widths (paper 512, 768, 512, 512); the k1 feature layer keeps
+    /// the last width (the 512-D evaluation feature).
+    pub classifier_hidden: [usize; 4],
+    /// Number of style labels of the dataset (Aberman et al.'s dataset used by the paper has 16).
+    /// Also the classifier's number of classes.
+    pub num_styles: usize,
+    /// Supervised stylizer: the style encoder and the generator's AdaIN get the one-hot style
+    /// label. Unsupervised: no label anywhere.
+    pub supervised: bool,
+    /// VAE motion autoencoder (encoder's last layer gives mean and log-variance); default: the
+    /// plain AE with L1 sparsity/smoothness regularisation.
+    pub vae: bool,
+    /// Dropout probability in the motion encoder (paper 0.2).
+    pub dropout: f64,
+}
+
+impl Default for ModelConfig {
+    fn default() -> Self {
+        Self {
+            ae_hidden: 384,
+            ae_mid: 512,
+            latent_dim: 512,
+            content_hidden: 768,
+            content_dim: 512,
+            style_hidden: [768, 768],
+            style_dim: 512,
+            generator_hidden: [768, 1024, 768],
+            regressor_hidden: [512, 256, 128],
+            classifier_hidden: [512, 768, 512, 512],
+            num_styles: 16,
+            supervised: true,
+            vae: false,
+            dropout: 0.2,
+        }
+    }
+}
+
+fn scale(width: usize, factor: f64) -> usize {
+    ((width as f64 * factor).round() as usize).max(1)
+}
+
+impl ModelConfig {
+    /// The paper's sizes with every internal width (hidden layers, latent, content and style
+    /// codes) multiplied by `width_factor` and rounded, at least 1. `scaled(0.5)` halves them.
+    /// Inputs and outputs (256/260/254/2 feature dims, the number of styles) are unchanged.
+    pub fn scaled(width_factor: f64) -> Self {
+        Self::default().with_width_factor(width_factor)
+    }
+
+    /// This configuration with every internal width multiplied by `width_factor`.
+    pub fn with_width_factor(mut self, f: f64) -> Self {
+        self.ae_hidden = scale(self.ae_hidden, f);
+        self.ae_mid = scale(self.ae_mid, f);
+        self.latent_dim = scale(self.latent_dim, f);
+        self.content_hidden = scale(self.content_hidden, f);
+        self.content_dim = scale(self.content_dim, f);
+        self.style_hidden = self.style_hidden.map(|w| scale(w, f));
+        self.style_dim = scale(self.style_dim, f);
+        self.generator_hidden = self.generator_hidden.map(|w| scale(w, f));
+        self.regressor_hidden = self.regressor_hidden.map(|w| scale(w, f));
+        self.classifier_hidden = self.classifier_hidden.map(|w| scale(w, f));
+        self
+    }
+
+    /// Builder: number of style labels.
+    pub fn with_num_styles(mut self, num_styles: usize) -> Self {
+        self.num_styles = num_styles;
+        self
+    }
+
+    /// Builder: supervised (labels) or unsupervised stylizer.
+    pub fn with_supervised(mut self, supervised: bool) -> Self {
+        self.supervised = supervised;
+        self
+    }
+
+    /// Builder: VAE or plain AE motion autoencoder.
+    pub fn with_vae(mut self, vae: bool) -> Self {
+        self.vae = vae;
+        self
+    }
+
+    /// Width of the one-hot label the stylizer networks take: `num_styles` when supervised,
+    /// 0 otherwise.
+    pub fn label_dim(&self) -> usize {
+        if self.supervised { self.num_styles } else { 0 }
+    }
+}
+
+/// Training settings from the paper / its code (model-facts.md, "Training").
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct TrainConfig {
+    /// Adam learning rate of the autoencoder and the stylizer (1e-4).
+    pub lr: f64,
+    /// Adam learning rate of the global motion regressor (2e-4).
+    pub regressor_lr: f64,
+    /// Global gradient-norm clip, applied per network as `torch.nn.utils.clip_grad_norm_` (0.5).
+    pub grad_clip_norm: f32,
+    /// Autoencoder latent L1 sparsity weight (0.001).
+    pub lambda_l1: f32,
+    /// Autoencoder latent L1 smoothness weight (0.001).
+    pub lambda_smooth: f32,
+    /// VAE autoencoder KL weight (0.001).
+    pub lambda_ae_kl: f32,
+    /// Stylizer loss weights; `None` means the paper's for the model's (un)supervised mode.
+    pub stylizer_weights: Option<crate::model::losses::StylizerWeights>,
+}
+
+impl Default for TrainConfig {
+    fn default() -> Self {
+        Self {
+            lr: 1e-4,
+            regressor_lr: 2e-4,
+            grad_clip_norm: 0.5,
+            lambda_l1: 0.001,
+            lambda_smooth: 0.001,
+            lambda_ae_kl: 0.001,
+            stylizer_weights: None,
+        }
+    }
+}

@@ -1,0 +1,254 @@
+//! Building blocks: 1-D convolution layers over time (layout `[batch, channels, time]`) with
+//! reflection or zero padding, instance norm, AdaIN, LeakyReLU 0.2, nearest ×2 upsampling.
+//!
+//! Conventions (from the authors' released code, see model-facts.md):
+//! - A "conv layer" is: [reflection pad k/2] → conv (stride 1 or 2) → [instance norm] →
+//!   [dropout] → [LeakyReLU 0.2]. For k3 the pad is 1 on each side, so stride 1 keeps the length
+//!   and stride 2 maps an even length `L` to exactly `L/2`.
+//! - The upsampling layers of the motion decoder and the generator use nearest ×2 then a k3 conv
+//!   with *zero* padding 1 (that is what the reference does there), then LeakyReLU.
+//! - Weights are Xavier-normal, biases zero (the reference's `init_weight`); the AdaIN linear
+//!   layer's bias starts at γ = 1, β = 0.
+//! - Instance norm: per sample and channel over time, biased variance, ε = 1e-5, no affine
+//!   (PyTorch `InstanceNorm1d` defaults).
+
+use burn::module::Param;
+use burn::nn::conv::{Conv1d, Conv1dConfig};
+use burn::nn::{Dropout, DropoutConfig, Initializer, Linear, LinearConfig, PaddingConfig1d};
+use burn::prelude::*;
+
+/// Negative slope of every LeakyReLU.
+pub const LEAKY_SLOPE: f64 = 0.2;
+/// Instance-norm epsilon.
+pub const NORM_EPS: f64 = 1e-5;
+
+/// LeakyReLU with slope 0.2.
+pub fn leaky_relu<const D: usize>(x: Tensor<D>) -> Tensor<D> {
+    burn::tensor::activation::leaky_relu(x, LEAKY_SLOPE)
+}
+
+/// Reflection padding of the time axis (dim 2) by `pad` frames on each side.
+///
+/// PyTorch's `ReflectionPad1d` needs `pad < length`; for the degenerate length-1 case (short
+/// clips deep in the style encoder/classifier) the frame is repeated instead, so any clip whose
+/// length is a multiple of 8 goes through every network.
+pub fn reflect_pad_time(x: Tensor<3>, pad: usize) -> Tensor<3> {
+    if pad == 0 {
+        return x;
+    }
+    let t = x.dims()[2];
+    if t == 1 {
+        return x.repeat_dim(2, 2 * pad + 1);
+    }
+    if pad == 1 {
+        // Cheaper than the generic `Tensor::pad` (one concatenation, no zero fill).
+        let left = x.clone().narrow(2, 1, 1);
+        let right = x.clone().narrow(2, t - 2, 1);
+        return Tensor::cat(vec![left, x, right], 2);
+    }
+    assert!(pad < t, "reflection pad {pad} needs a length above it, got {t}");
+    x.pad([(pad, pad)], burn::tensor::ops::PadMode::Reflect)
+}
+
+/// Instance normalisation without affine parameters: per sample and channel, over time.
+pub fn instance_norm(x: Tensor<3>) -> Tensor<3> {
+    let (var, mean) = x.clone().var_mean_bias(2);
+    (x - mean) / (var + NORM_EPS).sqrt()
+}
+
+/// Nearest-neighbour upsampling ×2 along time: `[B, C, T]` → `[B, C, 2T]`, each frame twice.
+pub fn upsample_nearest2(x: Tensor<3>) -> Tensor<3> {
+    let [b, c, t] = x.dims();
+    x.unsqueeze_dim::<4>(3).repeat_dim(3, 2).reshape([b, c, 2 * t])
+}
+
+/// One-hot rows for `labels` (`[labels.len(), num_classes]`). Labels must be `< num_classes`.
+pub fn one_hot(labels: &[usize], num_classes: usize, device: &Device) -> Tensor<2> {
+    let mut data = vec![0f32; labels.len() * num_classes];
+    for (row, &label) in labels.iter().enumerate() {
+        assert!(label < num_classes, "label {label} out of range {num_classes}");
+        data[row * num_classes + label] = 1.0;
+    }
+    Tensor::from_data(TensorData::new(data, [labels.len(), num_classes]), device)
+}
+
+/// Tiles a per-sample vector `[B, S]` over `len` time steps: `[B, S, len]`.
+pub fn tile_time(v: Tensor<2>, len: usize) -> Tensor<3> {
+    v.unsqueeze_dim::<3>(2).repeat_dim(2, len)
+}
+
+/// A 1-D convolution with Xavier-normal weights and (optionally) a zero bias. `zero_pad` frames of
+/// zero padding are applied by the convolution itself.
+pub fn xavier_conv1d(
+    channels_in: usize,
+    channels_out: usize,
+    kernel: usize,
+    stride: usize,
+    zero_pad: usize,
+    bias: bool,
+    device: &Device,
+) -> Conv1d {
+    let padding = if zero_pad > 0 { PaddingConfig1d::Explicit(zero_pad, zero_pad) } else { PaddingConfig1d::Valid };
+    let mut conv = Conv1dConfig::new(channels_in, channels_out, kernel)
+        .with_stride(stride)
+        .with_padding(padding)
+        .with_bias(false)
+        .with_initializer(Initializer::XavierNormal { gain: 1.0 })
+        .init(device);
+    if bias {
+        conv.bias = Some(Initializer::Zeros.init([channels_out], device));
+    }
+    conv
+}
+
+/// Settings of one [`ConvLayer`].
+#[derive(Clone, Debug)]
+pub struct ConvLayerConfig {
+    pub channels_in: usize,
+    pub channels_out: usize,
+    pub kernel: usize,
+    pub stride: usize,
+    /// Nearest ×2 upsampling before the convolution; implies zero padding (reference's
+    /// `SimpleConv1dLayer` / `StyleConv1dLayer`).
+    pub upsample: bool,
+    /// Zero padding inside the convolution instead of reflection padding before it.
+    pub zero_pad: bool,
+    pub instance_norm: bool,
+    pub dropout: f64,
+    pub activate: bool,
+    pub bias: bool,
+}
+
+impl ConvLayerConfig {
+    /// Reflection-padded conv (pad `kernel/2`), bias, LeakyReLU, no norm, no dropout.
+    pub fn new(channels_in: usize, channels_out: usize, kernel: usize) -> Self {
+        Self {
+            channels_in,
+            channels_out,
+            kernel,
+            stride: 1,
+            upsample: false,
+            zero_pad: false,
+            instance_norm: false,
+            dropout: 0.0,
+            activate: true,
+            bias: true,
+        }
+    }
+    /// Stride 2 (halves an even length for k3).
+    pub fn down(mut self) -> Self {
+        self.stride = 2;
+        self
+    }
+    /// Nearest ×2 upsampling then a zero-padded conv.
+    pub fn up(mut self) -> Self {
+        self.upsample = true;
+        self.zero_pad = true;
+        self
+    }
+    /// Zero padding instead of reflection.
+    pub fn zero_padded(mut self) -> Self {
+        self.zero_pad = true;
+        self
+    }
+    /// Instance norm after the conv.
+    pub fn norm(mut self) -> Self {
+        self.instance_norm = true;
+        self
+    }
+    /// Dropout with probability `p` after the conv (and norm).
+    pub fn dropout(mut self, p: f64) -> Self {
+        self.dropout = p;
+        self
+    }
+    /// No activation (output layers).
+    pub fn linear_out(mut self) -> Self {
+        self.activate = false;
+        self
+    }
+    /// No bias.
+    pub fn no_bias(mut self) -> Self {
+        self.bias = false;
+        self
+    }
+
+    pub fn init(&self, device: &Device) -> ConvLayer {
+        let pad = self.kernel / 2;
+        let (reflect_pad, zero_pad) = if self.zero_pad { (0, pad) } else { (pad, 0) };
+        ConvLayer {
+            conv: xavier_conv1d(
+                self.channels_in,
+                self.channels_out,
+                self.kernel,
+                self.stride,
+                zero_pad,
+                self.bias,
+                device,
+            ),
+            upsample: self.upsample,
+            reflect_pad,
+            instance_norm: self.instance_norm,
+            dropout: (self.dropout > 0.0).then(|| DropoutConfig::new(self.dropout).init()),
+            activate: self.activate,
+        }
+    }
+}
+
+/// [upsample ×2] → [reflection pad] → conv → [instance norm] → [dropout] → [LeakyReLU 0.2].
+#[derive(Module, Debug)]
+pub struct ConvLayer {
+    pub conv: Conv1d,
+    pub upsample: bool,
+    pub reflect_pad: usize,
+    pub instance_norm: bool,
+    pub dropout: Option<Dropout>,
+    pub activate: bool,
+}
+
+impl ConvLayer {
+    pub fn forward(&self, x: Tensor<3>) -> Tensor<3> {
+        let x = if self.upsample { upsample_nearest2(x) } else { x };
+        let x = reflect_pad_time(x, self.reflect_pad);
+        let mut x = self.conv.forward(x);
+        if self.instance_norm {
+            x = instance_norm(x);
+        }
+        if let Some(dropout) = &self.dropout {
+            x = dropout.forward(x);
+        }
+        if self.activate {
+            x = leaky_relu(x);
+        }
+        x
+    }
+}
+
+/// Adaptive instance normalisation: `γ · IN(x) + β`, with `[γ ; β]` from one linear layer on the
+/// conditioning vector `[style code ; one-hot label]`. The bias starts at γ = 1, β = 0, so an
+/// untrained AdaIN is plain instance norm.
+#[derive(Module, Debug)]
+pub struct AdaIn {
+    pub linear: Linear,
+    pub channels: usize,
+}
+
+impl AdaIn {
+    pub fn new(channels: usize, cond_dim: usize, device: &Device) -> Self {
+        let mut linear = LinearConfig::new(cond_dim, 2 * channels)
+            .with_bias(false)
+            .with_initializer(Initializer::XavierNormal { gain: 1.0 })
+            .init(device);
+        let bias = Tensor::cat(vec![Tensor::<1>::ones([channels], device), Tensor::zeros([channels], device)], 0);
+        linear.bias = Some(Param::from_tensor(bias));
+        Self { linear, channels }
+    }
+
+    /// `x`: `[B, C, T]`, `cond`: `[B, cond_dim]`.
+    pub fn forward(&self, x: Tensor<3>, cond: Tensor<2>) -> Tensor<3> {
+        let c = self.channels;
+        let gb = self.linear.forward(cond);
+        let gamma = gb.clone().narrow(1, 0, c).unsqueeze_dim::<3>(2);
+        let beta = gb.narrow(1, c, c).unsqueeze_dim::<3>(2);
+        instance_norm(x) * gamma + beta
+    }
+}

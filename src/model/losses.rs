@@ -1,0 +1,291 @@
+//! Losses. All reductions are means over every element (PyTorch's default `reduction="mean"`;
+//! the reference's KL terms are `sum / numel` too), so weights compare across widths and lengths.
+
+use burn::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::autoencoder::{MotionAutoencoder, ae_input};
+use super::config::TrainConfig;
+use super::rng::NoiseRng;
+use super::style::StyleDistribution;
+use super::stylizer::StylizerNet;
+
+/// Smooth-L1 (Huber with β = 1, PyTorch's `SmoothL1Loss`), mean over elements:
+/// `0.5 d²` where `|d| < 1`, `|d| − 0.5` elsewhere. Written as `0.5 q² + (|d| − q)` with
+/// `q = min(|d|, 1)`, which is the same function and needs no mask.
+pub fn smooth_l1<const D: usize>(pred: Tensor<D>, target: Tensor<D>) -> Tensor<1> {
+    let d = (pred - target).abs();
+    let q = d.clone().clamp_max(1.0);
+    (q.clone().square() * 0.5 + (d - q)).mean()
+}
+
+/// Mean absolute error.
+pub fn l1<const D: usize>(pred: Tensor<D>, target: Tensor<D>) -> Tensor<1> {
+    (pred - target).abs().mean()
+}
+
+/// `KL(N(μ, σ²) ‖ N(0, I))` per element, `½(σ² + μ² − log σ² − 1)`, mean over elements.
+pub fn kl_to_standard_normal<const D: usize>(mean: Tensor<D>, logvar: Tensor<D>) -> Tensor<1> {
+    ((logvar.clone().exp() + mean.square() - logvar - 1.0) * 0.5).mean()
+}
+
+/// `KL(N(μ₁, σ₁²) ‖ N(μ₂, σ₂²))` between diagonal Gaussians, per element
+/// `½(log σ₂² − log σ₁²) + (σ₁² + (μ₁ − μ₂)²) / (2σ₂²) − ½`, mean over elements.
+pub fn kl_gaussians<const D: usize>(
+    mean1: Tensor<D>,
+    logvar1: Tensor<D>,
+    mean2: Tensor<D>,
+    logvar2: Tensor<D>,
+) -> Tensor<1> {
+    let half_log_ratio = (logvar2.clone() - logvar1.clone()) * 0.5;
+    let num = logvar1.exp() + (mean1 - mean2).square();
+    (half_log_ratio + num / (logvar2.exp() * 2.0) - 0.5).mean()
+}
+
+/// KL of a style posterior to the prior `N(0, I)`.
+pub fn style_kl(dist: &StyleDistribution) -> Tensor<1> {
+    kl_to_standard_normal(dist.mean.clone(), dist.logvar.clone())
+}
+
+/// Homo-style alignment `KL(N_s¹ ‖ N_s²)`.
+pub fn style_alignment(first: &StyleDistribution, second: &StyleDistribution) -> Tensor<1> {
+    kl_gaussians(first.mean.clone(), first.logvar.clone(), second.mean.clone(), second.logvar.clone())
+}
+
+/// L1 sparsity of an AE latent `[B, D, L]`: mean `|z|`.
+pub fn latent_sparsity(z: Tensor<3>) -> Tensor<1> {
+    z.abs().mean()
+}
+
+/// L1 smoothness of an AE latent `[B, D, L]` over time: mean `|z_{t+1} − z_t|` (0 for L = 1).
+pub fn latent_smoothness(z: Tensor<3>) -> Tensor<1> {
+    let len = z.dims()[2];
+    if len < 2 {
+        return z.sum() * 0.0;
+    }
+    let next = z.clone().narrow(2, 1, len - 1);
+    let prev = z.narrow(2, 0, len - 1);
+    (next - prev).abs().mean()
+}
+
+/// Cross-entropy of `logits` `[B, C]` against class indices, mean over the batch (for training
+/// the evaluation classifier).
+pub fn cross_entropy(logits: Tensor<2>, labels: &[usize]) -> Tensor<1> {
+    let [b, c] = logits.dims();
+    let target = super::layers::one_hot(labels, c, &logits.device());
+    let logp = burn::tensor::activation::log_softmax(logits, 1);
+    (logp * target).sum().neg() / b as f32
+}
+
+// ---------------------------------------------------------------------------------------------
+// Autoencoder stage.
+
+/// The autoencoder's loss terms for one batch.
+#[derive(Clone, Debug)]
+pub struct AeLosses {
+    pub total: Tensor<1>,
+    /// Smooth-L1 between the reconstruction (260 dims) and the input features.
+    pub reconstruction: Tensor<1>,
+    /// AE only: L1 magnitude of the latent.
+    pub sparsity: Tensor<1>,
+    /// AE only: L1 of the latent's time differences.
+    pub smoothness: Tensor<1>,
+    /// VAE only: KL of the latent posterior to N(0, I).
+    pub kl: Tensor<1>,
+}
+
+/// Autoencoder loss for features `[B, 260, T]`: smooth-L1 reconstruction of all 260 dims from
+/// the 256 the encoder sees, plus (AE) `λ_l1 ‖z‖₁ + λ_sms ‖Δz‖₁` or (VAE) `λ_kl KL(z ‖ N(0,I))`,
+/// each 0.001. The VAE decodes a reparameterised sample with noise from `noise`.
+pub fn autoencoder_loss(
+    ae: &MotionAutoencoder,
+    features: Tensor<3>,
+    cfg: &TrainConfig,
+    noise: &mut NoiseRng,
+) -> AeLosses {
+    let device = features.device();
+    let dist = ae.encoder.forward(ae_input(features.clone()));
+    let zero = || Tensor::<1>::zeros([1], &device);
+    let (z, sparsity, smoothness, kl) = match &dist.logvar {
+        Some(logvar) => {
+            let [b, d, l] = dist.mean.dims();
+            let eps: Tensor<3> = noise.normal_tensor(b, d * l, &device).reshape([b, d, l]);
+            let z = dist.mean.clone() + (logvar.clone() * 0.5).exp() * eps;
+            let kl = kl_to_standard_normal(dist.mean.clone(), logvar.clone());
+            (z, zero(), zero(), kl)
+        }
+        None => {
+            let z = dist.mean.clone();
+            (z.clone(), latent_sparsity(z.clone()), latent_smoothness(z), zero())
+        }
+    };
+    let reconstruction = smooth_l1(ae.decoder.forward(z), features);
+    let total = reconstruction.clone()
+        + sparsity.clone() * cfg.lambda_l1
+        + smoothness.clone() * cfg.lambda_smooth
+        + kl.clone() * cfg.lambda_ae_kl;
+    AeLosses { total, reconstruction, sparsity, smoothness, kl }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Stylizer stage.
+
+/// Weights of the stylizer's loss `L = λ_rec L_rec + λ_hsa L_hsa + λ_cyc L_cyc + λ_kl L_kl`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StylizerWeights {
+    pub rec: f32,
+    pub hsa: f32,
+    pub cyc: f32,
+    pub kl: f32,
+}
+
+impl StylizerWeights {
+    /// Paper, supervised: (hsa, cyc, kl) = (1, 0.1, 0.1).
+    pub const SUPERVISED: Self = Self { rec: 1.0, hsa: 1.0, cyc: 0.1, kl: 0.1 };
+    /// Paper, unsupervised: (hsa, cyc, kl) = (0.1, 1, 0.01).
+    pub const UNSUPERVISED: Self = Self { rec: 1.0, hsa: 0.1, cyc: 1.0, kl: 0.01 };
+
+    /// The paper's weights for the given mode.
+    pub fn paper(supervised: bool) -> Self {
+        if supervised { Self::SUPERVISED } else { Self::UNSUPERVISED }
+    }
+}
+
+/// One stylizer batch, already in latent space. `B` sequences; clip 1 and clip 2 of each row
+/// come from the same sequence (homo-style).
+#[derive(Clone, Debug)]
+pub struct StylizerInputs {
+    /// Features of clip 1, `[B, 260, T]` (the pose-space targets).
+    pub motion1: Tensor<3>,
+    /// Features of clip 2, `[B, 260, T]`.
+    pub motion2: Tensor<3>,
+    /// Latents of the clips from the frozen motion encoder, `[B, D_z, T/4]` (no gradient).
+    pub latent1: Tensor<3>,
+    pub latent2: Tensor<3>,
+    /// One-hot style label of each sequence `[B, S]` (supervised), `None` (unsupervised).
+    pub labels: Option<Tensor<2>>,
+}
+
+/// The stylizer's loss terms for one batch (unweighted, plus the weighted total).
+#[derive(Clone, Debug)]
+pub struct StylizerLosses {
+    pub total: Tensor<1>,
+    /// `L_rec`, latent part: `sl1(ẑ¹, z¹) + sl1(ẑ², z²)`.
+    pub rec_latent: Tensor<1>,
+    /// `L_rec`, pose part: `sl1(D(ẑ¹), P¹) + sl1(D(ẑ²), P²)`.
+    pub rec_pose: Tensor<1>,
+    /// `L_cyc`, latent part: `sl1(z̃², z²) + sl1(z̃³, z³)`.
+    pub cyc_latent: Tensor<1>,
+    /// `L_cyc`, pose part: `sl1(D(z̃²), P²) + sl1(D(z̃³), P³)`.
+    pub cyc_pose: Tensor<1>,
+    /// `L_kl`: `KL(N¹‖N) + KL(N²‖N) + KL(Nᵗ‖N)` (`N³` is a permutation of `N²`).
+    pub kl: Tensor<1>,
+    /// `L_hsa`: `KL(N¹ ‖ N²)`.
+    pub hsa: Tensor<1>,
+}
+
+/// The row permutation that picks "another clip" `z³` for every row: rows swapped in pairs
+/// (0↔1, 2↔3, …, as the reference's `swap`) for an even batch; a rotation by one for an odd
+/// batch, so every row still gets another row's clip. `B = 1` gives the identity.
+pub fn partner_permutation(batch: usize) -> Vec<usize> {
+    if batch.is_multiple_of(2) {
+        (0..batch).map(|i| i ^ 1).collect()
+    } else {
+        (0..batch).map(|i| (i + 1) % batch).collect()
+    }
+}
+
+/// The stylizer's training loss (paper §3.2 "Learning Scheme"; structure as the authors' code).
+///
+/// With `sl` the label (supervised only) and `s ~ N_s` reparameterised samples (noise from
+/// `noise`):
+/// - Clips: `z¹`, `z²` from the same sequence; `z³ = perm(z²)` another sequence's clip
+///   ([`partner_permutation`]), with its label, features and — instead of re-encoding — its
+///   content code and style posterior permuted the same way (they are `E_c(z³)`, `E_s(z³)`).
+/// - Autoencoding: `ẑⁱ = G(E_c(zⁱ), sⁱ, slⁱ)`, `sⁱ ~ E_s(zⁱ, slⁱ)`, i ∈ {1, 2}.
+/// - Swap: `zᵗ = G(c², s³, sl³)` — the content of clip 2 (detached, as the reference) with the
+///   style of clip 3.
+/// - Cycle: `cᵗ = E_c(zᵗ)`, `Nᵗ = E_s(zᵗ, sl³)`;
+///   `z̃² = G(cᵗ, s ~ N²(detached), sl²)` (content back from the transfer, clip 2's own style),
+///   `z̃³ = G(c³ (detached), s ~ Nᵗ, sl³)` (clip 3's content, the style read back from zᵗ).
+/// - Pose space: every reconstruction is decoded by the frozen decoder `D` and compared with the
+///   clip's 260-D features.
+/// - `L = λ_rec L_rec + λ_cyc L_cyc + λ_kl L_kl + λ_hsa L_hsa` (see [`StylizerLosses`]).
+pub fn stylizer_loss(
+    net: &StylizerNet,
+    decoder: &super::autoencoder::MotionDecoder,
+    inputs: &StylizerInputs,
+    weights: &StylizerWeights,
+    noise: &mut NoiseRng,
+) -> StylizerLosses {
+    let device = inputs.latent1.device();
+    let batch = inputs.latent1.dims()[0];
+    let perm: Vec<i64> = partner_permutation(batch).into_iter().map(|i| i as i64).collect();
+    let perm = Tensor::<1, Int>::from_data(TensorData::new(perm, [batch]), &device);
+    let style_dim = net.style_encoder.style_dim;
+    let mut eps = || noise.normal_tensor(batch, style_dim, &device);
+
+    let z1 = inputs.latent1.clone();
+    let z2 = inputs.latent2.clone();
+    let z3 = z2.clone().select(0, perm.clone());
+    let m3 = inputs.motion2.clone().select(0, perm.clone());
+    let sl = inputs.labels.clone();
+    let sl3 = inputs.labels.clone().map(|l| l.select(0, perm.clone()));
+    // Networks run on stacked batches (same math, fewer and larger matrix products): every layer
+    // works per sample (conv, instance norm, AdaIN), so stacking changes nothing but speed.
+    let stack3 = |v: Vec<Tensor<3>>| Tensor::cat(v, 0);
+    let stack2 = |v: Vec<Tensor<2>>| Tensor::cat(v, 0);
+    let rows = |x: Tensor<3>, i: usize| x.narrow(0, i * batch, batch);
+    let stack_labels = |v: Vec<&Option<Tensor<2>>>| -> Option<Tensor<2>> {
+        v.into_iter().cloned().collect::<Option<Vec<_>>>().map(|v| Tensor::cat(v, 0))
+    };
+
+    // Encoders on [z¹; z²].
+    let z12 = stack3(vec![z1.clone(), z2.clone()]);
+    let c12 = net.content_encoder.forward(z12.clone());
+    let n12 = net.style_encoder.forward(z12, stack_labels(vec![&sl, &sl]));
+    let c1 = rows(c12.clone(), 0);
+    let c2 = rows(c12, 1);
+    let pick = |d: &StyleDistribution, i: usize| StyleDistribution {
+        mean: d.mean.clone().narrow(0, i * batch, batch),
+        logvar: d.logvar.clone().narrow(0, i * batch, batch),
+    };
+    let n1 = pick(&n12, 0);
+    let n2 = pick(&n12, 1);
+    let c3 = c2.clone().select(0, perm.clone());
+    let n3 = n2.select(perm);
+
+    // Autoencoding ẑ¹, ẑ² and the swap zᵗ = G(c² (detached), s³, sl³), in one generator pass.
+    let s1 = n1.sample_with(eps());
+    let s2 = n2.sample_with(eps());
+    let s3 = n3.sample_with(eps());
+    let g = net.generator.forward(
+        stack3(vec![c1, c2.clone(), c2.detach()]),
+        stack2(vec![s1, s2, s3]),
+        stack_labels(vec![&sl, &sl, &sl3]),
+    );
+    let (r1, r2, zt) = (rows(g.clone(), 0), rows(g.clone(), 1), rows(g, 2));
+    // Cycle: encode zᵗ, then z̃² = G(cᵗ, s ~ N²(detached), sl²), z̃³ = G(c³ (detached), s ~ Nᵗ, sl³).
+    let ct = net.content_encoder.forward(zt.clone());
+    let nt = net.style_encoder.forward(zt, sl3.clone());
+    let s2b = n2.detach().sample_with(eps());
+    let st = nt.sample_with(eps());
+    let g = net.generator.forward(stack3(vec![ct, c3.detach()]), stack2(vec![s2b, st]), stack_labels(vec![&sl, &sl3]));
+    let (rr2, rr3) = (rows(g.clone(), 0), rows(g, 1));
+
+    // Pose space: one pass of the frozen decoder over [ẑ¹; ẑ²; z̃²; z̃³].
+    let poses = decoder.forward(stack3(vec![r1.clone(), r2.clone(), rr2.clone(), rr3.clone()]));
+    let rec_latent = smooth_l1(r1, z1) + smooth_l1(r2, z2.clone());
+    let rec_pose = smooth_l1(rows(poses.clone(), 0), inputs.motion1.clone())
+        + smooth_l1(rows(poses.clone(), 1), inputs.motion2.clone());
+    let cyc_latent = smooth_l1(rr2, z2) + smooth_l1(rr3, z3);
+    let cyc_pose = smooth_l1(rows(poses.clone(), 2), inputs.motion2.clone()) + smooth_l1(rows(poses, 3), m3);
+    let kl = style_kl(&n1) + style_kl(&n2) + style_kl(&nt);
+    let hsa = style_alignment(&n1, &n2);
+
+    let total = (rec_latent.clone() + rec_pose.clone()) * weights.rec
+        + (cyc_latent.clone() + cyc_pose.clone()) * weights.cyc
+        + kl.clone() * weights.kl
+        + hsa.clone() * weights.hsa;
+    StylizerLosses { total, rec_latent, rec_pose, cyc_latent, cyc_pose, kl, hsa }
+}

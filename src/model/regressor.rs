@@ -1,0 +1,55 @@
+//! Global motion regressor: predicts the root's ground velocity (x, z, features 1..3) from the
+//! local motion, so a stylized motion gets a pace that matches its new style.
+//!
+//! Input (254 dims, the reference's `cat([M[..., 0:1], M[..., 3:]])[..., :-4]`): the root angular
+//! velocity (feature 0), then features 3..256 (root height, local positions, 6D rotations, local
+//! velocities); i.e. everything but the root ground velocity and the foot contacts. At inference
+//! the angular velocity comes from the content motion.
+//!
+//! Convs k3 (reflection pad, LeakyReLU) 254→512→256→128, then 128→2 (k1, linear, no bias).
+
+use burn::prelude::*;
+
+use super::config::{AE_INPUT_DIM, ModelConfig, REGRESSOR_INPUT_DIM, REGRESSOR_OUTPUT_DIM};
+use super::layers::{ConvLayer, ConvLayerConfig};
+
+#[derive(Module, Debug)]
+pub struct GlobalRegressor {
+    pub conv1: ConvLayer,
+    pub conv2: ConvLayer,
+    pub conv3: ConvLayer,
+    pub out: ConvLayer,
+}
+
+impl GlobalRegressor {
+    pub fn new(cfg: &ModelConfig, device: &Device) -> Self {
+        let [r0, r1, r2] = cfg.regressor_hidden;
+        Self {
+            conv1: ConvLayerConfig::new(REGRESSOR_INPUT_DIM, r0, 3).init(device),
+            conv2: ConvLayerConfig::new(r0, r1, 3).init(device),
+            conv3: ConvLayerConfig::new(r1, r2, 3).init(device),
+            out: ConvLayerConfig::new(r2, REGRESSOR_OUTPUT_DIM, 1).linear_out().no_bias().init(device),
+        }
+    }
+
+    /// `x`: `[B, 254, T]` (see [`regressor_input`]) → root ground velocity `[B, 2, T]`.
+    pub fn forward(&self, x: Tensor<3>) -> Tensor<3> {
+        self.out.forward(self.conv3.forward(self.conv2.forward(self.conv1.forward(x))))
+    }
+}
+
+/// The regressor's input from full features `[B, 260, T]`: feature 0 and features 3..256.
+pub fn regressor_input(features: Tensor<3>) -> Tensor<3> {
+    regressor_input_from(features.clone().narrow(1, 0, 1), features)
+}
+
+/// The regressor's input with the root angular velocity `[B, 1, T]` taken from elsewhere (the
+/// content motion at inference) and the rest from `features` `[B, 260, T]`.
+pub fn regressor_input_from(angular_velocity: Tensor<3>, features: Tensor<3>) -> Tensor<3> {
+    Tensor::cat(vec![angular_velocity, features.narrow(1, 3, AE_INPUT_DIM - 3)], 1)
+}
+
+/// The regressor's target from full features: the root ground velocity, features 1..3.
+pub fn regressor_target(features: Tensor<3>) -> Tensor<3> {
+    features.narrow(1, 1, REGRESSOR_OUTPUT_DIM)
+}

@@ -1,0 +1,74 @@
+//! Weights to and from bytes in compact f16 (half the size of f32; the browser downloads bytes).
+//!
+//! Format of one network: Burn's burnpack record (`ModuleRecord::into_bytes`), every float
+//! parameter cast to F16 first. Loading applies the record to a freshly built (lazily
+//! initialised, so nothing random is computed) module of the same architecture and casts the
+//! parameters back to F32.
+//!
+//! A *bundle* ([`save_bundle`] / [`load_bundle`]) carries the [`ModelConfig`] too:
+//! `b"MSTYLZ01"` | config JSON length (u32 LE) | config JSON | burnpack bytes of a [`MotionModel`].
+
+use burn::module::{Module, ModuleMapper, Param};
+use burn::prelude::*;
+use burn::store::ModuleRecord;
+use burn::tensor::{Bytes, FloatDType};
+
+use super::ModelError;
+use super::config::ModelConfig;
+use super::stylizer::MotionModel;
+
+const BUNDLE_MAGIC: &[u8; 8] = b"MSTYLZ01";
+
+struct CastFloats(FloatDType);
+
+impl ModuleMapper for CastFloats {
+    fn map_float<const D: usize>(&mut self, param: Param<Tensor<D>>) -> Param<Tensor<D>> {
+        let dtype = self.0;
+        param.map(|t| t.cast(dtype))
+    }
+}
+
+fn weights_err(e: impl core::fmt::Display) -> ModelError {
+    ModelError::Weights(e.to_string())
+}
+
+/// Every float parameter of `module` in f16, as burnpack bytes.
+pub fn to_f16_bytes<M: Module>(module: M) -> Result<Vec<u8>, ModelError> {
+    let module = module.map(&mut CastFloats(FloatDType::F16));
+    let bytes = module.into_record().into_bytes().map_err(weights_err)?;
+    Ok(bytes.to_vec())
+}
+
+/// Loads bytes from [`to_f16_bytes`] into `template` (a module of the same architecture, e.g.
+/// freshly built by `Net::new(&config, &device)`), parameters back in f32. Fails with a typed
+/// error on bytes that are not a record of that architecture.
+pub fn from_f16_bytes<M: Module>(template: M, bytes: &[u8]) -> Result<M, ModelError> {
+    let record = ModuleRecord::from_bytes(Bytes::from_bytes_vec(bytes.to_vec())).map_err(weights_err)?;
+    let module = template.try_load_record(record).map_err(weights_err)?;
+    Ok(module.map(&mut CastFloats(FloatDType::F32)))
+}
+
+/// Config + all inference networks in one byte buffer (f16 weights).
+pub fn save_bundle(config: &ModelConfig, model: MotionModel) -> Result<Vec<u8>, ModelError> {
+    let json = serde_json::to_vec(config).map_err(weights_err)?;
+    let weights = to_f16_bytes(model)?;
+    let mut out = Vec::with_capacity(12 + json.len() + weights.len());
+    out.extend_from_slice(BUNDLE_MAGIC);
+    out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    out.extend_from_slice(&json);
+    out.extend_from_slice(&weights);
+    Ok(out)
+}
+
+/// Reads a [`save_bundle`] buffer onto `device` (plain, for inference).
+pub fn load_bundle(bytes: &[u8], device: &Device) -> Result<(ModelConfig, MotionModel), ModelError> {
+    let header = BUNDLE_MAGIC.len() + 4;
+    if bytes.len() < header || &bytes[..8] != BUNDLE_MAGIC {
+        return Err(ModelError::Weights("not a motion-stylizer weights bundle".into()));
+    }
+    let len = u32::from_le_bytes(bytes[8..12].try_into().expect("4 bytes")) as usize;
+    let json = bytes.get(header..header + len).ok_or_else(|| ModelError::Weights("truncated bundle".into()))?;
+    let config: ModelConfig = serde_json::from_slice(json).map_err(weights_err)?;
+    let model = from_f16_bytes(MotionModel::new(&config, device), &bytes[header + len..])?;
+    Ok((config, model))
+}

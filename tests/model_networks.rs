@@ -1,0 +1,292 @@
+//! Shapes, AdaIN, length rules, losses, determinism and f16 weights of the stylization networks.
+//! Small widths (`scaled(0.125)`) and short clips (T = 32) keep this fast in debug builds.
+#![cfg(feature = "model")]
+
+use burn::prelude::*;
+use motion_stylizer::model::classifier::StyleClassifier;
+use motion_stylizer::model::layers::{AdaIn, instance_norm, reflect_pad_time, upsample_nearest2};
+use motion_stylizer::model::losses::{kl_gaussians, kl_to_standard_normal, latent_smoothness, smooth_l1};
+use motion_stylizer::model::regressor::regressor_input;
+use motion_stylizer::model::weights::{from_f16_bytes, load_bundle, save_bundle, to_f16_bytes};
+use motion_stylizer::model::{
+    ContentEncoder, Generator, GlobalRegressor, ModelConfig, ModelError, MotionAutoencoder, MotionModel, NoiseRng,
+    StyleCode, StyleEncoder, StyleSampling, Stylizer,
+};
+
+const T: usize = 32;
+
+fn device() -> Device {
+    Device::flex()
+}
+
+fn small(supervised: bool) -> ModelConfig {
+    ModelConfig::scaled(0.125).with_num_styles(4).with_supervised(supervised)
+}
+
+fn features(rng: &mut NoiseRng, b: usize, c: usize, t: usize) -> Tensor<3> {
+    rng.normal_tensor(b, c * t, &device()).reshape([b, c, t])
+}
+
+fn values<const D: usize>(t: Tensor<D>) -> Vec<f32> {
+    t.into_data().try_into_vec_as::<f32>().unwrap()
+}
+
+fn max_abs_diff<const D: usize>(a: Tensor<D>, b: Tensor<D>) -> f32 {
+    values(a).iter().zip(values(b)).map(|(x, y)| (x - y).abs()).fold(0.0, f32::max)
+}
+
+#[test]
+fn paper_sizes_and_scaling() {
+    let c = ModelConfig::default();
+    assert_eq!((c.ae_hidden, c.ae_mid, c.latent_dim), (384, 512, 512));
+    assert_eq!((c.content_hidden, c.content_dim, c.style_dim), (768, 512, 512));
+    assert_eq!(c.generator_hidden, [768, 1024, 768]);
+    assert_eq!(c.regressor_hidden, [512, 256, 128]);
+    assert_eq!(c.classifier_hidden, [512, 768, 512, 512]);
+    assert!(c.supervised && !c.vae);
+    let h = ModelConfig::scaled(0.5);
+    assert_eq!((h.ae_hidden, h.latent_dim, h.generator_hidden), (192, 256, [384, 512, 384]));
+    let json = serde_json::to_string(&h).unwrap();
+    assert_eq!(serde_json::from_str::<ModelConfig>(&json).unwrap(), h);
+}
+
+#[test]
+fn output_shapes_of_every_network() {
+    let dev = device();
+    let cfg = small(true);
+    let mut rng = NoiseRng::new(1);
+    let x = features(&mut rng, 2, 260, T);
+    let (d, dc, ds) = (cfg.latent_dim, cfg.content_dim, cfg.style_dim);
+
+    let ae = MotionAutoencoder::new(&cfg, &dev);
+    let z = ae.encoder.forward(x.clone().narrow(1, 0, 256));
+    assert_eq!(z.mean.dims(), [2, d, T / 4]);
+    assert!(z.logvar.is_none());
+    assert_eq!(ae.decoder.forward(z.mean.clone()).dims(), [2, 260, T]);
+
+    let vae = MotionAutoencoder::new(&cfg.clone().with_vae(true), &dev);
+    let zv = vae.encoder.forward(x.clone().narrow(1, 0, 256));
+    assert_eq!(zv.mean.dims(), [2, d, T / 4]);
+    assert_eq!(zv.logvar.unwrap().dims(), [2, d, T / 4]);
+
+    let content = ContentEncoder::new(&cfg, &dev).forward(z.mean.clone());
+    assert_eq!(content.dims(), [2, dc, T / 8]);
+
+    let label = motion_stylizer::model::layers::one_hot(&[0, 3], 4, &dev);
+    let style = StyleEncoder::new(&cfg, &dev).forward(z.mean.clone(), Some(label.clone()));
+    assert_eq!(style.mean.dims(), [2, ds]);
+    assert_eq!(style.logvar.dims(), [2, ds]);
+
+    let out = Generator::new(&cfg, &dev).forward(content, style.mean, Some(label));
+    assert_eq!(out.dims(), [2, d, T / 4]);
+
+    let unsup = small(false);
+    let style_u = StyleEncoder::new(&unsup, &dev).forward(z.mean.clone(), None);
+    assert_eq!(style_u.mean.dims(), [2, unsup.style_dim]);
+
+    let reg_in = regressor_input(x.clone());
+    assert_eq!(reg_in.dims(), [2, 254, T]);
+    assert_eq!(GlobalRegressor::new(&cfg, &dev).forward(reg_in).dims(), [2, 2, T]);
+
+    let cls = StyleClassifier::new(&cfg, &dev).forward(x.narrow(1, 0, 256));
+    assert_eq!(cls.feature.dims(), [2, cfg.classifier_hidden[3]]);
+    assert_eq!(cls.logits.dims(), [2, 4]);
+    let norms = values(cls.feature.square().sum_dim(1));
+    assert!(norms.iter().all(|n| (n - 1.0).abs() < 1e-4), "{norms:?}");
+}
+
+#[test]
+fn layer_helpers() {
+    let dev = device();
+    let x = Tensor::<3>::from_data(TensorData::new(vec![1f32, 2., 3., 4.], [1, 1, 4]), &dev);
+    assert_eq!(values(reflect_pad_time(x.clone(), 1)), vec![2., 1., 2., 3., 4., 3.]);
+    assert_eq!(values(upsample_nearest2(x.clone())), vec![1., 1., 2., 2., 3., 3., 4., 4.]);
+    let one = Tensor::<3>::from_data(TensorData::new(vec![5f32], [1, 1, 1]), &dev);
+    assert_eq!(values(reflect_pad_time(one, 1)), vec![5., 5., 5.]);
+    let n = values(instance_norm(x));
+    let mean: f32 = n.iter().sum::<f32>() / 4.0;
+    let var: f32 = n.iter().map(|v| (v - mean).powi(2)).sum::<f32>() / 4.0;
+    assert!(mean.abs() < 1e-6 && (var - 1.0).abs() < 1e-3, "{mean} {var}");
+}
+
+#[test]
+fn adain_at_initialisation_is_instance_norm() {
+    let dev = device();
+    let mut rng = NoiseRng::new(2);
+    let adain = AdaIn::new(6, 5, &dev);
+    let x = features(&mut rng, 3, 6, 10) * 3.0 + 1.5;
+    // γ, β come from a linear layer whose bias starts at (1, 0): with a zero conditioning vector
+    // AdaIN is exactly instance norm.
+    let zero = Tensor::<2>::zeros([3, 5], &dev);
+    assert!(max_abs_diff(adain.forward(x.clone(), zero), instance_norm(x.clone())) < 1e-6);
+    // A non-zero style moves it.
+    let cond = rng.normal_tensor(3, 5, &dev);
+    assert!(max_abs_diff(adain.forward(x.clone(), cond), instance_norm(x)) > 1e-2);
+}
+
+#[test]
+fn generator_output_depends_on_the_style_code() {
+    let dev = device();
+    for supervised in [true, false] {
+        let cfg = small(supervised);
+        let mut rng = NoiseRng::new(3);
+        let generator = Generator::new(&cfg, &dev);
+        let content = features(&mut rng, 2, cfg.content_dim, 4);
+        let label = supervised.then(|| motion_stylizer::model::layers::one_hot(&[1, 2], 4, &dev));
+        let s1 = rng.normal_tensor(2, cfg.style_dim, &dev);
+        let s2 = rng.normal_tensor(2, cfg.style_dim, &dev);
+        let a = generator.forward(content.clone(), s1.clone(), label.clone());
+        let b = generator.forward(content.clone(), s2, label.clone());
+        let a2 = generator.forward(content, s1, label);
+        assert!(max_abs_diff(a.clone(), b) > 1e-3);
+        assert_eq!(values(a), values(a2));
+    }
+    // In a supervised model the label alone changes the output too.
+    let cfg = small(true);
+    let stylizer = Stylizer::seeded(cfg.clone(), &dev, 1);
+    let mut rng = NoiseRng::new(4);
+    let content = features(&mut rng, 1, cfg.content_dim, 4);
+    let code = rng.normal_tensor(1, cfg.style_dim, &dev);
+    let a = stylizer.generate(content.clone(), &StyleCode { code: code.clone(), labels: Some(vec![0]) }).unwrap();
+    let b = stylizer.generate(content, &StyleCode { code, labels: Some(vec![3]) }).unwrap();
+    assert!(max_abs_diff(a, b) > 1e-4);
+}
+
+#[test]
+fn length_channel_and_label_rules_are_typed_errors() {
+    let dev = device();
+    let sup = Stylizer::seeded(small(true), &dev, 2);
+    let unsup = Stylizer::seeded(small(false), &dev, 3);
+    let mut rng = NoiseRng::new(5);
+    for bad in [12, 20, 33, 36] {
+        let x = features(&mut rng, 1, 260, bad);
+        assert_eq!(sup.encode(x.clone()).unwrap_err(), ModelError::FrameCount { frames: bad, multiple: 8 });
+        let style = sup.style_from_label(&[1], &mut rng).unwrap();
+        assert!(matches!(sup.stylize(x, &style), Err(ModelError::FrameCount { .. })));
+    }
+    // Latent of odd length: no content code.
+    let z = features(&mut rng, 1, sup.config.latent_dim, 3);
+    assert_eq!(sup.content(z).unwrap_err(), ModelError::LatentLength { len: 3 });
+    // Wrong channels.
+    let x = features(&mut rng, 1, 100, 32);
+    assert!(matches!(sup.encode(x), Err(ModelError::Channels { got: 100, .. })));
+    // Labels.
+    let z = features(&mut rng, 2, sup.config.latent_dim, 8);
+    assert!(matches!(sup.style_distribution(z.clone(), None), Err(ModelError::Label(_))));
+    assert!(matches!(sup.style_distribution(z.clone(), Some(&[0, 4])), Err(ModelError::Label(_))));
+    assert!(matches!(sup.style_distribution(z.clone(), Some(&[0])), Err(ModelError::BatchSize { .. })));
+    assert!(matches!(unsup.style_distribution(z.clone(), Some(&[0, 1])), Err(ModelError::Label(_))));
+    assert!(matches!(sup.style_from_prior(1, &mut rng), Err(ModelError::Label(_))));
+    assert!(matches!(unsup.style_from_label(&[0], &mut rng), Err(ModelError::Label(_))));
+    assert!(unsup.style_distribution(z, None).is_ok());
+    // Every multiple of 8 works end to end, the shortest included.
+    for t in [8, 16, 32, 40] {
+        let x = features(&mut rng, 1, 260, t);
+        let style = unsup.style_from_prior(1, &mut rng).unwrap();
+        assert_eq!(unsup.stylize(x, &style).unwrap().dims(), [1, 260, t]);
+    }
+}
+
+#[test]
+fn loss_functions() {
+    let dev = device();
+    let a = Tensor::<1>::from_floats([0.0, 0.0, 0.0, 0.0], &dev);
+    let b = Tensor::<1>::from_floats([0.5, -0.5, 2.0, -3.0], &dev);
+    // 0.125, 0.125, 1.5, 2.5 → mean 1.0625
+    let v = smooth_l1(a.clone(), b).into_scalar::<f32>();
+    assert!((v - 1.0625).abs() < 1e-6, "{v}");
+    let zeros = Tensor::<2>::zeros([2, 3], &dev);
+    assert!(kl_to_standard_normal(zeros.clone(), zeros.clone()).into_scalar::<f32>().abs() < 1e-7);
+    let mut rng = NoiseRng::new(6);
+    let mu = rng.normal_tensor(2, 3, &dev);
+    let lv = rng.normal_tensor(2, 3, &dev);
+    assert!(kl_gaussians(mu.clone(), lv.clone(), mu.clone(), lv.clone()).into_scalar::<f32>().abs() < 1e-6);
+    // KL(N(μ,σ²) ‖ N(0,1)) equals the general formula against (0, 0).
+    let k1 = kl_to_standard_normal(mu.clone(), lv.clone()).into_scalar::<f32>();
+    let k2 = kl_gaussians(mu, lv, zeros.clone(), zeros).into_scalar::<f32>();
+    assert!((k1 - k2).abs() < 1e-5 && k1 > 0.0);
+    let z = Tensor::<3>::from_data(TensorData::new(vec![0f32, 1., 3., 3.], [1, 1, 4]), &dev);
+    assert!((latent_smoothness(z).into_scalar::<f32>() - 1.0).abs() < 1e-6);
+}
+
+#[test]
+fn noise_is_seeded_and_standard_normal() {
+    let a = NoiseRng::new(42).normals(20000);
+    assert_eq!(a, NoiseRng::new(42).normals(20000));
+    assert_ne!(a, NoiseRng::new(43).normals(20000));
+    let mean = a.iter().map(|&v| v as f64).sum::<f64>() / a.len() as f64;
+    let var = a.iter().map(|&v| (v as f64 - mean).powi(2)).sum::<f64>() / a.len() as f64;
+    assert!(mean.abs() < 0.03 && (var - 1.0).abs() < 0.05, "{mean} {var}");
+}
+
+fn run_all_paths(stylizer: &Stylizer, seed: u64) -> Vec<Vec<f32>> {
+    let mut rng = NoiseRng::new(seed);
+    let content = features(&mut rng, 2, 260, T);
+    let style_motion = features(&mut rng, 2, 260, T);
+    let mut out = Vec::new();
+    let latent = stylizer.encode(style_motion).unwrap();
+    let labels = stylizer.config.supervised.then_some(&[1usize, 2][..]);
+    let mean = stylizer.style_from_motion(latent.clone(), labels, StyleSampling::Mean).unwrap();
+    let sample = stylizer.style_from_motion(latent, labels, StyleSampling::Sample(&mut rng)).unwrap();
+    let prior = if stylizer.config.supervised {
+        stylizer.style_from_label(&[0, 3], &mut rng).unwrap()
+    } else {
+        stylizer.style_from_prior(2, &mut rng).unwrap()
+    };
+    for style in [mean, sample, prior] {
+        out.push(values(stylizer.stylize(content.clone(), &style).unwrap()));
+    }
+    out
+}
+
+#[test]
+fn same_seed_gives_bit_identical_outputs() {
+    for supervised in [true, false] {
+        let build = || Stylizer::seeded(small(supervised), &device(), 11);
+        let (s1, s2) = (build(), build());
+        let a = run_all_paths(&s1, 9);
+        assert_eq!(a, run_all_paths(&s1, 9), "same model, same seed");
+        assert_eq!(a, run_all_paths(&s2, 9), "same init seed, same inference seed");
+        let b = run_all_paths(&s1, 10);
+        assert_ne!(a, b, "a different seed gives different inputs and samples");
+        assert_ne!(a[0], a[1], "a sampled style differs from the posterior mean");
+        assert!(a.iter().flatten().all(|v| v.is_finite()));
+    }
+}
+
+#[test]
+fn f16_weights_round_trip() {
+    let dev = device();
+    for cfg in [small(true), small(false).with_vae(true)] {
+        let model = MotionModel::seeded(&cfg, &dev, 4);
+        let stylizer = Stylizer::new(cfg.clone(), model.clone());
+        let bytes = save_bundle(&cfg, model.clone()).unwrap();
+        let params = model.num_params();
+        // f16: 2 bytes per parameter plus a small header and the per-tensor index.
+        assert!(bytes.len() < params * 2 + 16 * 1024, "{} bytes for {params} params", bytes.len());
+        assert!(bytes.len() >= params * 2);
+        let (cfg2, model2) = load_bundle(&bytes, &dev).unwrap();
+        assert_eq!(cfg2, cfg);
+        let loaded = Stylizer::new(cfg2, model2);
+        let a = run_all_paths(&stylizer, 3);
+        let b = run_all_paths(&loaded, 3);
+        for (x, y) in a.iter().zip(&b) {
+            let scale = x.iter().fold(0f32, |m, v| m.max(v.abs())).max(1.0);
+            let err = x.iter().zip(y).map(|(p, q)| (p - q).abs()).fold(0.0, f32::max);
+            assert!(err < 2e-2 * scale, "f16 round trip error {err} (scale {scale})");
+        }
+        // Loaded weights are exactly the f16 values: saving again gives the same bytes.
+        let again = save_bundle(&loaded.config, loaded.model.clone()).unwrap();
+        assert_eq!(bytes.len(), again.len());
+    }
+    // One network alone, and bad bytes.
+    let cfg = small(true);
+    let generator = motion_stylizer::model::init::seeded_xavier(Generator::new(&cfg, &dev), 5);
+    let bytes = to_f16_bytes(generator.clone()).unwrap();
+    let loaded = from_f16_bytes(Generator::new(&cfg, &dev), &bytes).unwrap();
+    let w0 = values(generator.out.conv.weight.val());
+    let w1 = values(loaded.out.conv.weight.val());
+    assert!(w0.iter().zip(&w1).all(|(a, b)| (a - b).abs() <= a.abs() * 1e-3 + 1e-6));
+    assert!(from_f16_bytes(ContentEncoder::new(&cfg, &dev), &bytes).is_err());
+    assert!(load_bundle(b"garbage", &dev).is_err());
+}

@@ -1,0 +1,104 @@
+//! Overfit checks: a few Adam steps on one tiny fixed batch lower the autoencoder, regressor and
+//! stylizer losses. Small widths and T = 32 keep this fast in debug builds.
+#![cfg(feature = "model")]
+
+use burn::prelude::*;
+use motion_stylizer::model::losses::partner_permutation;
+use motion_stylizer::model::train::{AeTrainer, StylizerBatch, StylizerTrainer};
+use motion_stylizer::model::{ModelConfig, ModelError, MotionAutoencoder, NoiseRng, TrainConfig};
+
+const T: usize = 32;
+
+fn features(rng: &mut NoiseRng, b: usize, t: usize) -> Tensor<3> {
+    // Smooth-ish motion-like signals: a random walk over time per channel, scaled to unit size.
+    let raw = rng.normals(b * 260 * t);
+    let mut data = vec![0f32; raw.len()];
+    for row in 0..b * 260 {
+        let mut acc = 0.0;
+        for k in 0..t {
+            acc = 0.8 * acc + raw[row * t + k];
+            data[row * t + k] = acc * 0.6;
+        }
+    }
+    Tensor::from_data(TensorData::new(data, [b, 260, t]), &Device::flex())
+}
+
+fn cfg(supervised: bool) -> ModelConfig {
+    ModelConfig::scaled(0.125).with_num_styles(3).with_supervised(supervised)
+}
+
+fn fast_train() -> TrainConfig {
+    // A larger learning rate than the paper's 1e-4 so a handful of steps shows progress.
+    TrainConfig { lr: 2e-3, regressor_lr: 2e-3, ..TrainConfig::default() }
+}
+
+#[test]
+fn autoencoder_and_regressor_overfit_one_batch() {
+    for vae in [false, true] {
+        let dev = Device::flex();
+        let mut trainer = AeTrainer::new(cfg(true).with_vae(vae), fast_train(), &dev, 1);
+        let x = features(&mut NoiseRng::new(2), 2, T);
+        let first = trainer.step(x.clone()).unwrap();
+        let mut last = first.clone();
+        for _ in 0..14 {
+            last = trainer.step(x.clone()).unwrap();
+        }
+        eprintln!("vae={vae}: {first:?}\n  -> {last:?}");
+        assert!(last.reconstruction < 0.85 * first.reconstruction, "{first:?} -> {last:?}");
+        assert!(last.regressor_loss < 0.85 * first.regressor_loss, "{first:?} -> {last:?}");
+        assert!(first.ae_grad_norm > 0.0 && first.regressor_grad_norm > 0.0);
+        if vae {
+            assert!(last.kl > 0.0 && last.sparsity == 0.0);
+        } else {
+            assert!(last.sparsity > 0.0 && last.kl == 0.0);
+        }
+    }
+}
+
+#[test]
+fn stylizer_overfits_one_batch() {
+    for supervised in [true, false] {
+        let dev = Device::flex();
+        dev.seed(3);
+        let ae = MotionAutoencoder::new(&cfg(supervised), &dev);
+        let mut trainer = StylizerTrainer::new(cfg(supervised), fast_train(), ae, &dev, 4);
+        let mut rng = NoiseRng::new(5);
+        let batch = StylizerBatch {
+            motion1: features(&mut rng, 2, T),
+            motion2: features(&mut rng, 2, T),
+            labels: supervised.then(|| vec![0, 2]),
+        };
+        let first = trainer.step(&batch).unwrap();
+        let mut last = first.clone();
+        for _ in 0..14 {
+            last = trainer.step(&batch).unwrap();
+        }
+        eprintln!("supervised={supervised}: {first:?}\n  -> {last:?}");
+        assert!(last.loss < 0.8 * first.loss, "{first:?} -> {last:?}");
+        assert!(last.rec_latent < first.rec_latent, "{first:?} -> {last:?}");
+        assert!(first.hsa >= 0.0 && first.kl >= 0.0);
+        assert!(first.encoders_grad_norm > 0.0 && first.generator_grad_norm > 0.0);
+    }
+}
+
+#[test]
+fn training_inputs_are_checked() {
+    let dev = Device::flex();
+    let ae = MotionAutoencoder::new(&cfg(true), &dev);
+    let mut trainer = StylizerTrainer::new(cfg(true), TrainConfig::default(), ae, &dev, 1);
+    let mut rng = NoiseRng::new(1);
+    let ok = features(&mut rng, 2, T);
+    let no_labels = StylizerBatch { motion1: ok.clone(), motion2: ok.clone(), labels: None };
+    assert!(matches!(trainer.step(&no_labels), Err(ModelError::Label(_))));
+    let bad_len = StylizerBatch { motion1: features(&mut rng, 2, 20), motion2: ok.clone(), labels: Some(vec![0, 1]) };
+    assert!(matches!(trainer.step(&bad_len), Err(ModelError::FrameCount { frames: 20, .. })));
+    let mut ae_trainer = AeTrainer::new(cfg(true), TrainConfig::default(), &dev, 1);
+    assert!(matches!(ae_trainer.step(features(&mut rng, 1, 12)), Err(ModelError::FrameCount { .. })));
+}
+
+#[test]
+fn partner_permutation_pairs_rows() {
+    assert_eq!(partner_permutation(4), vec![1, 0, 3, 2]);
+    assert_eq!(partner_permutation(3), vec![1, 2, 0]);
+    assert_eq!(partner_permutation(1), vec![0]);
+}
