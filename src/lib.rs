@@ -11,5 +11,9 @@ pub mod features;
 pub mod model;
 pub mod motion;
 pub mod skeleton;
+#[cfg(feature = "model")]
+pub mod stylize;
+#[cfg(all(feature = "model", not(target_arch = "wasm32")))]
+pub mod train;
 
 pub use motion::{Motion, MotionError};

@@ -3,6 +3,14 @@
 mod inspect;
 mod retarget;
 mod split;
+#[cfg(feature = "model")]
+mod styles;
+#[cfg(feature = "model")]
+mod stylize;
+#[cfg(feature = "model")]
+mod train;
+#[cfg(feature = "model")]
+mod export;
 
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
@@ -47,6 +55,24 @@ enum Command {
         #[arg(short, long, default_value = "assets/split/heldout.txt")]
         output: PathBuf,
     },
+    /// Stylize a BVH: style from a reference motion, a label or the prior; output on the content's
+    /// rig (or the canonical one).
+    #[cfg(feature = "model")]
+    Stylize(stylize::StylizeArgs),
+    /// List the style labels, one per line (from the weights' manifest, else the built-in set).
+    #[cfg(feature = "model")]
+    Styles {
+        /// Trained weights folder (default: assets/weights in the crate).
+        #[arg(long, value_name = "DIR")]
+        weights: Option<PathBuf>,
+    },
+    /// Train a stage on the Bandai-Namco data: `ae` (motion autoencoder + regressor), then
+    /// `stylizer` on its frozen autoencoder.
+    #[cfg(feature = "model")]
+    Train(train::TrainArgs),
+    /// Write the shipped weights folder (manifest, norm.json, f16 bundles) from finished runs.
+    #[cfg(feature = "model")]
+    Export(export::ExportArgs),
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
@@ -54,6 +80,14 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Inspect { file, json } => inspect::run(&file, json),
         Command::Retarget { file, output, onto } => retarget::run(&file, &output, onto.as_deref()),
         Command::Split { data, seed, output } => split::run(&data, seed, &output),
+        #[cfg(feature = "model")]
+        Command::Stylize(args) => stylize::run(&args),
+        #[cfg(feature = "model")]
+        Command::Styles { weights } => styles::run(weights.as_deref()),
+        #[cfg(feature = "model")]
+        Command::Train(args) => train::run(args),
+        #[cfg(feature = "model")]
+        Command::Export(args) => export::run(&args),
     }
 }
 

@@ -1,0 +1,113 @@
+//! `motion-stylizer stylize CONTENT.bvh (--style-motion REF.bvh [--label NAME] | --label NAME |
+//! --prior) [--unsupervised] [--samples N] [--seed S] [--canonical] [--weights DIR] -o OUT.bvh`.
+
+use anyhow::{Context, bail};
+use clap::Args;
+use motion_stylizer::skeleton::{self, Imported};
+use motion_stylizer::stylize::{self, Request, Setting, StyleSource, Weights};
+use std::path::{Path, PathBuf};
+
+#[derive(Args, Debug)]
+pub struct StylizeArgs {
+    /// The motion to stylize (BVH, any rig the importer knows).
+    content: PathBuf,
+    /// Motion-based: take the style of this motion (BVH, any rig). The supervised model also needs
+    /// its style label (--label); the unsupervised one (--unsupervised) does not.
+    #[arg(long, value_name = "REF.bvh", conflicts_with = "prior")]
+    style_motion: Option<PathBuf>,
+    /// Label-based (supervised model): the target style label (see `motion-stylizer styles`).
+    /// With --style-motion: the reference motion's style label.
+    #[arg(long, value_name = "NAME", conflicts_with = "prior")]
+    label: Option<String>,
+    /// Prior-based: a random style from the prior (supervised model: with a random label).
+    #[arg(long)]
+    prior: bool,
+    /// Use the model trained without style labels.
+    #[arg(long)]
+    unsupervised: bool,
+    /// Number of outputs (1-64). N = 1 writes OUT.bvh; N > 1 writes OUT_0.bvh ... OUT_{N-1}.bvh.
+    /// Motion-based: 1 is the reference's posterior mean, more are draws from its posterior.
+    #[arg(long, default_value_t = 1, value_name = "N")]
+    samples: usize,
+    /// Seed of the random style draws (same seed, same output bytes).
+    #[arg(long, default_value_t = 0, value_name = "S")]
+    seed: u64,
+    /// Write the output on the canonical 21-joint rig instead of the content's own rig.
+    #[arg(long)]
+    canonical: bool,
+    /// Trained weights folder (manifest.json, norm.json, supervised.bin, unsupervised.bin).
+    /// Default: assets/weights in the crate.
+    #[arg(long, value_name = "DIR")]
+    weights: Option<PathBuf>,
+    /// Output BVH path.
+    #[arg(short, long, value_name = "OUT.bvh")]
+    output: PathBuf,
+}
+
+/// The weights folder shipped with the crate.
+pub fn default_weights_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets").join("weights")
+}
+
+/// Loads the weights folder, with an error that says what to do when there is none.
+pub fn load_weights(dir: &Path) -> anyhow::Result<Weights> {
+    if !dir.join("manifest.json").is_file() {
+        bail!("no trained weights at {}; train them (README) or pass --weights DIR", dir.display());
+    }
+    Weights::load_dir(dir).with_context(|| format!("cannot load the weights at {}", dir.display()))
+}
+
+fn import(path: &Path) -> anyhow::Result<Imported> {
+    let text = super::read_text(path)?;
+    skeleton::import_bvh(&text).with_context(|| format!("cannot import {}", path.display()))
+}
+
+/// `OUT.bvh` for one sample; `OUT_i.bvh` for sample `i` of several.
+pub fn output_path(output: &Path, index: usize, samples: usize) -> PathBuf {
+    if samples == 1 {
+        return output.to_path_buf();
+    }
+    let stem = output.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let name = match output.extension() {
+        Some(ext) => format!("{stem}_{index}.{}", ext.to_string_lossy()),
+        None => format!("{stem}_{index}"),
+    };
+    output.with_file_name(name)
+}
+
+pub fn run(args: &StylizeArgs) -> anyhow::Result<()> {
+    if args.style_motion.is_none() && args.label.is_none() && !args.prior {
+        bail!("give a style: --style-motion REF.bvh, --label NAME or --prior");
+    }
+    let setting = if args.unsupervised { Setting::Unsupervised } else { Setting::Supervised };
+    let dir = args.weights.clone().unwrap_or_else(default_weights_dir);
+    let weights = load_weights(&dir)?;
+    let label = args.label.as_deref().map(|name| weights.style(name)).transpose()?;
+
+    let content = import(&args.content)?;
+    let reference = args.style_motion.as_deref().map(import).transpose()?;
+    let source = match (&reference, label) {
+        (Some(r), label) => StyleSource::Motion { motion: &r.motion, label },
+        (None, Some(label)) => StyleSource::Label(label),
+        (None, None) => StyleSource::Prior,
+    };
+    let request = Request { source, setting, samples: args.samples, seed: args.seed };
+    let motions = stylize::stylize(&weights, &content.motion, &request)?;
+
+    let texts: Vec<String> = motions
+        .iter()
+        .map(|m| if args.canonical { m.to_bvh() } else { content.rig.from_canonical(m) }.to_bvh_string())
+        .collect();
+    for (i, text) in texts.iter().enumerate() {
+        let path = output_path(&args.output, i, texts.len());
+        super::write_text(&path, text)?;
+        eprintln!(
+            "{} ({} frames) -> {} ({}, {setting})",
+            args.content.display(),
+            content.motion.frames(),
+            path.display(),
+            if args.canonical { "canonical rig".to_string() } else { format!("{} rig", content.rig.report().rig) }
+        );
+    }
+    Ok(())
+}

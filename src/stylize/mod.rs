@@ -1,0 +1,51 @@
+//! The inference pipeline: content motion + style source → stylized motions.
+//!
+//! No file system (except the native convenience [`Weights::load_dir`]), no threads of its own, no
+//! panics on user input: everything it refuses is a [`StylizeError`]. The same code runs in the
+//! browser (wasm), where the weight files are fetched and handed over as bytes
+//! ([`Weights::from_bytes`]).
+//!
+//! ```text
+//! let weights = Weights::load_dir("assets/weights")?;
+//! let content = skeleton::import_bvh(&text)?;
+//! let old = weights.style("old")?;
+//! let request = Request::new(StyleSource::Label(old)).with_samples(3).with_seed(7);
+//! let motions = stylize(&weights, &content.motion, &request)?;       // canonical rig, 30 fps
+//! let bvh = content.rig.from_canonical(&motions[0]);                  // back on the user's rig
+//! ```
+//!
+//! # Decisions
+//!
+//! - **Length.** The networks need a multiple of 8 frames: content and reference features are
+//!   padded by reflection in time (mirror without repeating the edge, periodic if the pad is longer
+//!   than the clip; a one-frame clip repeats its frame) to the next multiple of 8 (at least 8), and
+//!   the output is trimmed back: every output has exactly the content's frame count. There is no
+//!   minimum length; at most [`MAX_FRAMES`] (5 minutes).
+//! - **Samples.** `samples = N` gives `N` outputs from `N` style codes, batched in one forward
+//!   pass (the content is encoded once). Label- and prior-based: `N` draws from the prior.
+//!   Motion-based: `N = 1` is the posterior mean (deterministic, the seed does not matter),
+//!   `N > 1` are `N` draws from the reference's posterior (the paper's diverse motion-based
+//!   stylization). At most [`MAX_SAMPLES`].
+//! - **Labels.** The supervised model needs a label everywhere: label-based takes it; motion-based
+//!   takes the *reference's* label (paper §3.4 a; there is no classifier in the weights to guess
+//!   it), and without one it is an error ([`StylizeError::MotionNeedsLabel`]); prior-based draws a
+//!   label per sample uniformly from the seed ("any style"). The unsupervised model refuses labels
+//!   ([`StylizeError::LabelNeedsSupervised`], [`StylizeError::LabelWithUnsupervised`]).
+//! - **Mix.** [`StyleSource::Mix`] lerps two sources' style codes (and one-hot labels).
+//! - **Root.** Angular velocity from the content, ground velocity from the global motion
+//!   regressor on the generated motion, height from the decoder (paper §3.3); the output starts
+//!   where the content started, facing the same way.
+//! - **Randomness.** Everything is drawn from `seed` on the Rust side (ChaCha8), so the same
+//!   request gives the same bits natively and in wasm.
+
+pub mod error;
+pub mod manifest;
+pub mod pipeline;
+pub mod source;
+pub mod weights;
+
+pub use error::StylizeError;
+pub use manifest::{Manifest, ModelEntry, StageRecord};
+pub use pipeline::{MAX_FRAMES, pad_features, padded_frames, style_code_of, stylize};
+pub use source::{MAX_MIX_DEPTH, MAX_SAMPLES, Request, StyleSource};
+pub use weights::{Setting, Weights};

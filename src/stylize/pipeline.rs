@@ -1,0 +1,317 @@
+//! The stylization pipeline: content motion + style source → stylized motions.
+//!
+//! 1. Content features ([`extract_placed`]), normalised with the weights' statistics, padded to a
+//!    multiple of 8 frames by reflection ([`pad_features`]); encoder → motion latent → content code.
+//! 2. Style codes, one row per sample ([`StyleSource`]).
+//! 3. The content code repeated once per sample, the generator (AdaIN on each row's style code and
+//!    label) → motion latents → decoder → features, all samples in one batch.
+//! 4. Root: angular velocity (dim 0) from the content's features, ground velocity (dims 1..3) from
+//!    the global motion regressor on the generated motion, height and everything else from the
+//!    decoder; denormalised, trimmed to the content's length, rebuilt ([`reconstruct`]) and put
+//!    where the content was ([`Placement`](crate::features::Placement)).
+
+use burn::prelude::*;
+use burn::tensor::TensorData;
+use rand_chacha::ChaCha8Rng;
+use rand_chacha::rand_core::{RngCore, SeedableRng};
+
+use super::StylizeError;
+use super::source::{MAX_MIX_DEPTH, MAX_SAMPLES, Request, StyleSource};
+use super::weights::{Setting, Weights};
+use crate::Motion;
+use crate::dataset::Style;
+use crate::features::{DIM, FeatureError, Features, View, extract_placed, reconstruct};
+use crate::model::config::FRAME_MULTIPLE;
+use crate::model::layers::one_hot;
+use crate::model::{NoiseRng, StyleDistribution, Stylizer};
+
+/// Longest content or reference motion accepted, frames at 30 fps (5 minutes).
+pub const MAX_FRAMES: usize = 9_000;
+
+/// Samples × padded frames that go through the networks in one batch; more samples are split
+/// into several batches (bounds the memory, e.g. in the browser). At 160 frames, 64 samples fit
+/// in one batch.
+const BATCH_FRAME_BUDGET: usize = 16_384;
+
+/// The length a clip of `frames` frames is padded to: the next multiple of 8, at least 8.
+pub fn padded_frames(frames: usize) -> usize {
+    frames.div_ceil(FRAME_MULTIPLE).max(1) * FRAME_MULTIPLE
+}
+
+/// Index of the frame that padding frame `t` copies, for a clip of `n` frames: reflection without
+/// repeating the edge (`… n−2, n−1, n−2, …, 0, 1, …`, periodic for long pads); a one-frame clip
+/// repeats its frame.
+fn reflect_index(t: usize, n: usize) -> usize {
+    if n <= 1 {
+        return 0;
+    }
+    let period = 2 * (n - 1);
+    let i = t % period;
+    if i < n { i } else { period - i }
+}
+
+/// `f` extended to `len ≥ f.frames()` frames by reflection in time (mirror without repeating the
+/// edge frame, periodic for long pads; a one-frame clip repeats its frame).
+pub fn pad_features(f: &Features, len: usize) -> Features {
+    let n = f.frames();
+    let mut data = Vec::with_capacity(len.max(n) * DIM);
+    for t in 0..len.max(n) {
+        data.extend_from_slice(f.frame(reflect_index(t, n)));
+    }
+    Features::new(len.max(n), data).unwrap_or_else(|_| f.clone())
+}
+
+/// A motion's normalised, padded features as a `[1, 260, T]` tensor, its frame count and where it
+/// sat in the world.
+struct Prepared {
+    tensor: Tensor<3>,
+    frames: usize,
+    placement: crate::features::Placement,
+}
+
+fn prepare(
+    norm: &crate::features::NormStats,
+    motion: &Motion,
+    what: &'static str,
+    device: &Device,
+) -> Result<Prepared, StylizeError> {
+    let frames = motion.frames();
+    if frames > MAX_FRAMES {
+        return Err(StylizeError::TooLong { what, frames, max: MAX_FRAMES });
+    }
+    let (mut features, placement) = extract_placed(motion);
+    if let Some((frame, dim)) = features.first_non_finite() {
+        return Err(StylizeError::Features(FeatureError::NonFinite { frame, dim }));
+    }
+    norm.normalize(&mut features);
+    let len = padded_frames(frames);
+    let padded = pad_features(&features, len);
+    let tensor = Tensor::from_data(TensorData::new(padded.view_channels_first(View::Full), [1, DIM, len]), device);
+    Ok(Prepared { tensor, frames, placement })
+}
+
+/// Style codes `[N, style_dim]` and, for the supervised model, (possibly soft) one-hot labels
+/// `[N, num_styles]`.
+struct Codes {
+    code: Tensor<2>,
+    label: Option<Tensor<2>>,
+}
+
+/// Checks a request against the model before any network runs.
+fn validate(source: &StyleSource<'_>, stylizer: &Stylizer, depth: usize) -> Result<(), StylizeError> {
+    let supervised = stylizer.config.supervised;
+    let check_label = |s: &Style| label_index(*s, stylizer).map(|_| ());
+    match source {
+        StyleSource::Motion { motion, label } => {
+            match (supervised, label) {
+                (true, None) => return Err(StylizeError::MotionNeedsLabel),
+                (false, Some(_)) => return Err(StylizeError::LabelWithUnsupervised),
+                (true, Some(l)) => check_label(l)?,
+                (false, None) => {}
+            }
+            if motion.frames() > MAX_FRAMES {
+                return Err(StylizeError::TooLong { what: "reference", frames: motion.frames(), max: MAX_FRAMES });
+            }
+            Ok(())
+        }
+        StyleSource::Label(l) => {
+            if !supervised {
+                return Err(StylizeError::LabelNeedsSupervised);
+            }
+            check_label(l)
+        }
+        StyleSource::Prior => Ok(()),
+        StyleSource::Mix { a, b, t } => {
+            if depth >= MAX_MIX_DEPTH {
+                return Err(StylizeError::MixTooDeep { max: MAX_MIX_DEPTH });
+            }
+            if !(t.is_finite() && (0.0..=1.0).contains(t)) {
+                return Err(StylizeError::MixWeight { t: *t });
+            }
+            validate(a, stylizer, depth + 1)?;
+            validate(b, stylizer, depth + 1)
+        }
+    }
+}
+
+fn label_index(style: Style, stylizer: &Stylizer) -> Result<usize, StylizeError> {
+    let count = stylizer.config.num_styles;
+    if style.index() < count {
+        Ok(style.index())
+    } else {
+        Err(StylizeError::LabelOutOfRange { index: style.index(), count })
+    }
+}
+
+/// The random draws of one request: style noise and (supervised prior) labels, both from the seed.
+struct Draws {
+    noise: NoiseRng,
+    labels: ChaCha8Rng,
+}
+
+impl Draws {
+    fn new(seed: u64) -> Self {
+        let mut labels = ChaCha8Rng::seed_from_u64(seed);
+        // Another stream than the noise's (NoiseRng uses stream 0 of the same seed).
+        labels.set_stream(1);
+        Draws { noise: NoiseRng::new(seed), labels }
+    }
+
+    /// Uniform in `0..n` (`n ≥ 1`; multiply-shift, the same on every platform).
+    fn label(&mut self, n: usize) -> usize {
+        ((u64::from(self.labels.next_u32()) * n as u64) >> 32) as usize
+    }
+}
+
+struct Resolver<'w> {
+    weights: &'w Weights,
+    stylizer: &'w Stylizer,
+    samples: usize,
+    draws: Draws,
+}
+
+impl Resolver<'_> {
+    fn one_hot_rows(&self, labels: &[usize]) -> Tensor<2> {
+        one_hot(labels, self.stylizer.config.num_styles, self.stylizer.device())
+    }
+
+    /// Codes for `source` (validated by [`validate`]).
+    fn resolve(&mut self, source: &StyleSource<'_>) -> Result<Codes, StylizeError> {
+        let (n, d) = (self.samples, self.stylizer.config.style_dim);
+        let device = self.stylizer.device().clone();
+        let supervised = self.stylizer.config.supervised;
+        match source {
+            StyleSource::Motion { motion, label } => {
+                let label = label.map(|l| label_index(l, self.stylizer)).transpose()?;
+                let prepared = prepare(self.weights.norm(), motion, "reference", &device)?;
+                let latent = self.stylizer.encode(prepared.tensor)?;
+                let dist = self.stylizer.style_distribution(latent, label.map(|l| vec![l]).as_deref())?;
+                let code = if n == 1 {
+                    dist.mean
+                } else {
+                    let eps = self.draws.noise.normal_tensor(n, d, &device);
+                    let rows =
+                        StyleDistribution { mean: dist.mean.repeat_dim(0, n), logvar: dist.logvar.repeat_dim(0, n) };
+                    rows.sample_with(eps)
+                };
+                Ok(Codes { code, label: label.map(|l| self.one_hot_rows(&vec![l; n])) })
+            }
+            StyleSource::Label(style) => {
+                let l = label_index(*style, self.stylizer)?;
+                let code = self.draws.noise.normal_tensor(n, d, &device);
+                Ok(Codes { code, label: Some(self.one_hot_rows(&vec![l; n])) })
+            }
+            StyleSource::Prior => {
+                let code = self.draws.noise.normal_tensor(n, d, &device);
+                let label = supervised.then(|| {
+                    let count = self.stylizer.config.num_styles;
+                    let labels: Vec<usize> = (0..n).map(|_| self.draws.label(count)).collect();
+                    self.one_hot_rows(&labels)
+                });
+                Ok(Codes { code, label })
+            }
+            StyleSource::Mix { a, b, t } => {
+                let a = self.resolve(a)?;
+                let b = self.resolve(b)?;
+                let lerp = |x: Tensor<2>, y: Tensor<2>| x.clone() + (y - x) * *t;
+                let label = match (a.label, b.label) {
+                    (Some(x), Some(y)) => Some(lerp(x, y)),
+                    _ => None,
+                };
+                Ok(Codes { code: lerp(a.code, b.code), label })
+            }
+        }
+    }
+}
+
+fn read_back<const D: usize>(t: Tensor<D>) -> Result<Vec<f32>, StylizeError> {
+    t.try_into_vec_as::<f32>().map_err(|e| StylizeError::Model(format!("reading a tensor: {e:?}")))
+}
+
+/// Stylizes `content` as `request` asks: `request.samples` motions, each as long as `content`, on
+/// the canonical rig, where `content` was in the world (same start, facing and floor).
+///
+/// Deterministic: the same weights, content and request give the same motions, bit for bit.
+/// Errors: see [`StylizeError`]; nothing panics on any motion or request.
+pub fn stylize(weights: &Weights, content: &Motion, request: &Request<'_>) -> Result<Vec<Motion>, StylizeError> {
+    if !(1..=MAX_SAMPLES).contains(&request.samples) {
+        return Err(StylizeError::Samples { got: request.samples, max: MAX_SAMPLES });
+    }
+    let stylizer = weights.stylizer(request.setting)?;
+    if content.frames() > MAX_FRAMES {
+        return Err(StylizeError::TooLong { what: "content", frames: content.frames(), max: MAX_FRAMES });
+    }
+    validate(&request.source, stylizer, 0)?;
+
+    let device = stylizer.device().clone();
+    let prepared = prepare(weights.norm(), content, "content", &device)?;
+    let padded = prepared.tensor.dims()[2];
+    let content_code = stylizer.content(stylizer.encode(prepared.tensor.clone())?)?;
+    let angular = prepared.tensor.narrow(1, 0, 1);
+
+    let n = request.samples;
+    let mut resolver = Resolver { weights, stylizer, samples: n, draws: Draws::new(request.seed) };
+    let codes = resolver.resolve(&request.source)?;
+    if codes.label.is_some() != stylizer.config.supervised {
+        return Err(StylizeError::Model("style labels do not match the model's setting".into()));
+    }
+
+    let per_batch = (BATCH_FRAME_BUDGET / padded).clamp(1, n);
+    let mut out = Vec::with_capacity(n);
+    let mut start = 0;
+    while start < n {
+        let rows = per_batch.min(n - start);
+        let code = codes.code.clone().narrow(0, start, rows);
+        let label = codes.label.as_ref().map(|l| l.clone().narrow(0, start, rows));
+        let latent = stylizer.model.stylizer.generator.forward(content_code.clone().repeat_dim(0, rows), code, label);
+        let decoded = stylizer.decode(latent)?;
+        let angular = angular.clone().repeat_dim(0, rows);
+        let velocity = stylizer.root_velocity(decoded.clone(), angular.clone())?;
+        let features = Tensor::cat(vec![angular, velocity, decoded.narrow(1, 3, DIM - 3)], 1);
+        let values = read_back(features)?;
+        for sample in values.chunks_exact(DIM * padded) {
+            out.push(to_motion(weights, sample, padded, prepared.frames, &prepared.placement)?);
+        }
+        start += rows;
+    }
+    Ok(out)
+}
+
+/// One sample's channel-first normalised features `[260, padded]` → the motion, trimmed to the
+/// content's length, denormalised, rebuilt and placed.
+fn to_motion(
+    weights: &Weights,
+    sample: &[f32],
+    padded: usize,
+    frames: usize,
+    placement: &crate::features::Placement,
+) -> Result<Motion, StylizeError> {
+    let mut data = Vec::with_capacity(frames * DIM);
+    for t in 0..frames {
+        data.extend((0..DIM).map(|c| sample[c * padded + t]));
+    }
+    let mut features = Features::new(frames, data)?;
+    weights.norm().denormalize(&mut features);
+    let motion = reconstruct(&features)?;
+    placement.from_canonical_motion(&motion).map_err(|e| StylizeError::Features(e.into()))
+}
+
+/// The style encoder's posterior mean for `motion` (`style_dim` numbers): where the motion sits
+/// in the style space of `setting`'s model. `label` as for [`StyleSource::Motion`] (required by
+/// the supervised model, refused by the unsupervised one). For evaluation: a stylized output
+/// should land nearer the codes of its style reference than its content does.
+pub fn style_code_of(
+    weights: &Weights,
+    setting: Setting,
+    motion: &Motion,
+    label: Option<Style>,
+) -> Result<Vec<f32>, StylizeError> {
+    let stylizer = weights.stylizer(setting)?;
+    let source = StyleSource::Motion { motion, label };
+    validate(&source, stylizer, 0)?;
+    let label = label.map(|l| label_index(l, stylizer)).transpose()?;
+    let prepared = prepare(weights.norm(), motion, "reference", stylizer.device())?;
+    let latent = stylizer.encode(prepared.tensor)?;
+    let dist = stylizer.style_distribution(latent, label.map(|l| vec![l]).as_deref())?;
+    read_back(dist.mean)
+}

@@ -1,0 +1,84 @@
+//! What a stylization asks for: the style source ([`StyleSource`]) and the [`Request`] around it.
+
+use super::weights::Setting;
+use crate::Motion;
+use crate::dataset::Style;
+
+/// Most outputs one request may ask for.
+pub const MAX_SAMPLES: usize = 64;
+
+/// Deepest nesting of [`StyleSource::Mix`].
+pub const MAX_MIX_DEPTH: usize = 8;
+
+/// Where the style code comes from (paper Fig. 4).
+#[derive(Clone, Debug, PartialEq)]
+pub enum StyleSource<'a> {
+    /// Motion-based: the style encoder's posterior of a reference motion (any length; it is
+    /// padded like the content). One sample: the posterior mean (deterministic, the seed is
+    /// unused). `N > 1` samples: `N` draws `μ + σ ε` from the posterior, for diversity.
+    ///
+    /// `label` is the reference's style label: required by the supervised model (its style
+    /// encoder and generator are conditioned on it), refused by the unsupervised one.
+    Motion { motion: &'a Motion, label: Option<Style> },
+    /// Label-based (supervised model only): codes from the prior `N(0, I)` with this label, one
+    /// draw per sample.
+    Label(Style),
+    /// Prior-based: codes from the prior `N(0, I)`, one draw per sample. With the supervised
+    /// model each sample also gets a label drawn uniformly from the seed ("any style").
+    Prior,
+    /// Interpolation `(1 − t)·a + t·b` of two sources' style codes (and, in the supervised model,
+    /// of their one-hot labels, which the generator's AdaIN takes as a linear input); `t` in
+    /// [0, 1]. `a`'s noise is drawn before `b`'s, so `t = 0` gives exactly `a`'s result.
+    Mix { a: Box<StyleSource<'a>>, b: Box<StyleSource<'a>>, t: f32 },
+}
+
+impl<'a> StyleSource<'a> {
+    /// Motion-based, without a label (the unsupervised model).
+    pub fn motion(motion: &'a Motion) -> Self {
+        StyleSource::Motion { motion, label: None }
+    }
+
+    /// Motion-based with the reference's style label (the supervised model).
+    pub fn labelled_motion(motion: &'a Motion, label: Style) -> Self {
+        StyleSource::Motion { motion, label: Some(label) }
+    }
+
+    /// `(1 − t)·a + t·b`.
+    pub fn mix(a: StyleSource<'a>, b: StyleSource<'a>, t: f32) -> Self {
+        StyleSource::Mix { a: Box::new(a), b: Box::new(b), t }
+    }
+}
+
+/// One stylization request.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Request<'a> {
+    pub source: StyleSource<'a>,
+    pub setting: Setting,
+    /// Number of outputs, `1..=`[`MAX_SAMPLES`]; all go through the networks in one batch.
+    pub samples: usize,
+    /// Seed of every random draw (style noise, random labels). Same seed, same request → the same
+    /// output, bit for bit.
+    pub seed: u64,
+}
+
+impl<'a> Request<'a> {
+    /// One sample from `source` with the supervised model, seed 0.
+    pub fn new(source: StyleSource<'a>) -> Self {
+        Request { source, setting: Setting::Supervised, samples: 1, seed: 0 }
+    }
+
+    pub fn with_setting(mut self, setting: Setting) -> Self {
+        self.setting = setting;
+        self
+    }
+
+    pub fn with_samples(mut self, samples: usize) -> Self {
+        self.samples = samples;
+        self
+    }
+
+    pub fn with_seed(mut self, seed: u64) -> Self {
+        self.seed = seed;
+        self
+    }
+}

@@ -1,0 +1,242 @@
+//! [`Weights`]: the shipped-weights folder (see [`super::manifest`]) loaded from bytes, so that the
+//! browser can fetch the files and hand them over; [`Weights::load_dir`] reads the folder natively.
+
+use burn::prelude::*;
+
+use super::StylizeError;
+use super::manifest::{self, Manifest};
+use crate::dataset::Style;
+use crate::features::NormStats;
+use crate::model::weights::load_bundle;
+use crate::model::{ModelConfig, Stylizer};
+
+/// Which of the two stylizers (paper §3.4): trained with style labels or without.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Setting {
+    /// Style encoder and generator conditioned on the style label: motion-based (with the
+    /// reference's label) and label-based stylization.
+    #[default]
+    Supervised,
+    /// No labels anywhere: motion-based and prior-based stylization.
+    Unsupervised,
+}
+
+impl Setting {
+    /// The manifest's name of the setting (`"supervised"`, `"unsupervised"`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Setting::Supervised => "supervised",
+            Setting::Unsupervised => "unsupervised",
+        }
+    }
+
+    /// The setting a manifest names, if any.
+    pub fn from_name(name: &str) -> Option<Setting> {
+        match name {
+            "supervised" => Some(Setting::Supervised),
+            "unsupervised" => Some(Setting::Unsupervised),
+            _ => None,
+        }
+    }
+}
+
+impl core::fmt::Display for Setting {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// Largest width (channels) a bundle's config may ask for: far above the paper's 1024, far below
+/// an allocation that would abort.
+const MAX_WIDTH: usize = 8192;
+
+/// The trained models and what goes with them: the manifest, the normalisation statistics and
+/// one [`Stylizer`] per available setting.
+#[derive(Debug)]
+pub struct Weights {
+    manifest: Manifest,
+    norm: NormStats,
+    supervised: Option<Stylizer>,
+    unsupervised: Option<Stylizer>,
+}
+
+fn bad(message: impl Into<String>) -> StylizeError {
+    StylizeError::BadWeights(message.into())
+}
+
+impl Weights {
+    /// The weights from the bytes of the folder's files (`manifest.json`, `norm.json`,
+    /// `supervised.bin`, `unsupervised.bin`), on the CPU (`flex`) device. At least one bundle is
+    /// needed. Errors ([`StylizeError::BadWeights`]): malformed JSON, a manifest of another format
+    /// or without labels, statistics of the wrong size, bundles that are not ours, of the other
+    /// setting, or whose label count disagrees with the manifest.
+    pub fn from_bytes(
+        manifest_json: &[u8],
+        norm_json: &[u8],
+        supervised: Option<&[u8]>,
+        unsupervised: Option<&[u8]>,
+    ) -> Result<Weights, StylizeError> {
+        Self::from_bytes_on(&Device::flex(), manifest_json, norm_json, supervised, unsupervised)
+    }
+
+    /// [`Weights::from_bytes`] on a given device.
+    pub fn from_bytes_on(
+        device: &Device,
+        manifest_json: &[u8],
+        norm_json: &[u8],
+        supervised: Option<&[u8]>,
+        unsupervised: Option<&[u8]>,
+    ) -> Result<Weights, StylizeError> {
+        let manifest: Manifest =
+            serde_json::from_slice(manifest_json).map_err(|e| bad(format!("manifest.json: {e}")))?;
+        if manifest.format != manifest::FORMAT {
+            return Err(bad(format!(
+                "manifest format {} (this build reads format {})",
+                manifest.format,
+                manifest::FORMAT
+            )));
+        }
+        if manifest.styles.is_empty() || manifest.styles.len() > usize::from(u8::MAX) + 1 {
+            return Err(bad(format!("the manifest lists {} style labels", manifest.styles.len())));
+        }
+        let norm: NormStats = serde_json::from_slice(norm_json).map_err(|e| bad(format!("norm.json: {e}")))?;
+        if supervised.is_none() && unsupervised.is_none() {
+            return Err(bad("no model: neither a supervised nor an unsupervised bundle"));
+        }
+        let load = |bytes: Option<&[u8]>, setting: Setting| -> Result<Option<Stylizer>, StylizeError> {
+            let Some(bytes) = bytes else { return Ok(None) };
+            let context = |e: StylizeError| match e {
+                StylizeError::BadWeights(m) => bad(format!("{setting} bundle: {m}")),
+                other => other,
+            };
+            check_bundle_header(bytes, setting, manifest.styles.len()).map_err(context)?;
+            let (config, model) = load_bundle(bytes, device).map_err(|e| context(e.into()))?;
+            Ok(Some(Stylizer::new(config, model)))
+        };
+        Ok(Weights {
+            supervised: load(supervised, Setting::Supervised)?,
+            unsupervised: load(unsupervised, Setting::Unsupervised)?,
+            manifest,
+            norm,
+        })
+    }
+
+    /// Reads the weights folder `dir` (native builds only): `manifest.json`, the statistics file
+    /// it names, and the bundle of each setting it lists.
+    #[cfg(not(target_arch = "wasm32"))]
+    pub fn load_dir(dir: impl AsRef<std::path::Path>) -> Result<Weights, StylizeError> {
+        let dir = dir.as_ref();
+        let read = |name: &str| {
+            let path = dir.join(name);
+            std::fs::read(&path)
+                .map_err(|e| StylizeError::Read { path: path.display().to_string(), message: e.to_string() })
+        };
+        let manifest_json = read("manifest.json")?;
+        let manifest: Manifest =
+            serde_json::from_slice(&manifest_json).map_err(|e| bad(format!("manifest.json: {e}")))?;
+        let norm_json = read(&manifest.norm)?;
+        let (mut supervised, mut unsupervised) = (None, None);
+        for entry in &manifest.models {
+            let slot = match Setting::from_name(&entry.setting) {
+                Some(Setting::Supervised) => &mut supervised,
+                Some(Setting::Unsupervised) => &mut unsupervised,
+                None => return Err(bad(format!("the manifest lists an unknown setting {:?}", entry.setting))),
+            };
+            *slot = Some(read(&entry.file)?);
+        }
+        Self::from_bytes(&manifest_json, &norm_json, supervised.as_deref(), unsupervised.as_deref())
+    }
+
+    pub fn manifest(&self) -> &Manifest {
+        &self.manifest
+    }
+
+    /// The training set's normalisation statistics.
+    pub fn norm(&self) -> &NormStats {
+        &self.norm
+    }
+
+    /// The style labels, in one-hot order.
+    pub fn styles(&self) -> &[String] {
+        &self.manifest.styles
+    }
+
+    /// The label called `name` (case-insensitive); the error lists the valid ones.
+    pub fn style(&self, name: &str) -> Result<Style, StylizeError> {
+        self.manifest
+            .styles
+            .iter()
+            .position(|s| s.eq_ignore_ascii_case(name.trim()))
+            .map(|i| Style(i as u8))
+            .ok_or_else(|| StylizeError::UnknownLabel { name: name.to_string(), valid: self.manifest.styles.clone() })
+    }
+
+    /// The name of a label (`None` if out of range).
+    pub fn style_name(&self, style: Style) -> Option<&str> {
+        self.manifest.styles.get(style.index()).map(String::as_str)
+    }
+
+    /// Whether the model of `setting` is loaded.
+    pub fn has(&self, setting: Setting) -> bool {
+        self.stylizer(setting).is_ok()
+    }
+
+    /// The settings loaded.
+    pub fn settings(&self) -> Vec<Setting> {
+        [Setting::Supervised, Setting::Unsupervised].into_iter().filter(|&s| self.has(s)).collect()
+    }
+
+    /// The inference model of `setting`.
+    pub fn stylizer(&self, setting: Setting) -> Result<&Stylizer, StylizeError> {
+        match setting {
+            Setting::Supervised => self.supervised.as_ref(),
+            Setting::Unsupervised => self.unsupervised.as_ref(),
+        }
+        .ok_or(StylizeError::SettingUnavailable { setting })
+    }
+}
+
+/// Checks a bundle's config before any network is built from it: the setting and the label count
+/// match, and no width is absurd (which would make the loader try to allocate it).
+fn check_bundle_header(bytes: &[u8], setting: Setting, labels: usize) -> Result<(), StylizeError> {
+    const MAGIC: &[u8; 8] = b"MSTYLZ01";
+    const MAGIC_LEN: usize = MAGIC.len();
+    if bytes.get(..MAGIC_LEN) != Some(MAGIC.as_slice()) {
+        return Err(bad("not a motion-stylizer weights bundle"));
+    }
+    let len_bytes: [u8; 4] = bytes
+        .get(MAGIC_LEN..MAGIC_LEN + 4)
+        .and_then(|b| b.try_into().ok())
+        .ok_or_else(|| bad("not a motion-stylizer weights bundle"))?;
+    let len = u32::from_le_bytes(len_bytes) as usize;
+    let json = bytes
+        .get(MAGIC_LEN + 4..)
+        .and_then(|rest| rest.get(..len))
+        .ok_or_else(|| bad("not a motion-stylizer weights bundle (truncated)"))?;
+    let config: ModelConfig = serde_json::from_slice(json).map_err(|e| bad(format!("config: {e}")))?;
+    if config.supervised != (setting == Setting::Supervised) {
+        let other = if config.supervised { Setting::Supervised } else { Setting::Unsupervised };
+        return Err(bad(format!("it holds the {other} model")));
+    }
+    let widths = [
+        config.ae_hidden,
+        config.ae_mid,
+        config.latent_dim,
+        config.content_hidden,
+        config.content_dim,
+        config.style_dim,
+        config.num_styles,
+    ]
+    .into_iter()
+    .chain(config.style_hidden)
+    .chain(config.generator_hidden)
+    .chain(config.regressor_hidden)
+    .chain(config.classifier_hidden);
+    if widths.into_iter().any(|w| w == 0 || w > MAX_WIDTH) {
+        return Err(bad("its config has a width of 0 or above 8192"));
+    }
+    if config.supervised && config.num_styles != labels {
+        return Err(bad(format!("it knows {} style labels, the manifest lists {labels}", config.num_styles)));
+    }
+    Ok(())
+}

@@ -1,0 +1,178 @@
+//! `motion-stylizer export`: the shipped weights folder from three finished runs (the layout of
+//! [`crate::stylize::manifest`]).
+//!
+//! - `supervised.bin`, `unsupervised.bin`: [`save_bundle`] (f16) of each stylizer run's latest
+//!   checkpoint with the autoencoder and regressor it was trained on (the copy in its `ae.bin`,
+//!   so a bundle is always consistent even if the `ae` run went on training afterwards).
+//! - `norm.json`: the normalisation statistics (identical in all three runs, or an error).
+//! - `manifest.json`: provenance of each bundle, one [`StageRecord`] per stage. The `ae` record
+//!   describes the `--ae` run up to the step the stylizer took its autoencoder from: command
+//!   line(s) (resumed segments joined by ` && `), steps, seed, batch, window, wall seconds
+//!   (prorated to that step if the run went further), seconds per training step, machine; final
+//!   losses = means of the last 100 `loss.csv` rows (up to that step) of every loss term and
+//!   gradient norm; held-out metrics = the last `eval.csv` row up to that step (its step as
+//!   `eval_step`).
+
+use anyhow::{Context, bail, ensure};
+use burn::prelude::*;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use super::rundir::{self, Checkpoint, CsvTable, RunConfig, RunLog};
+use super::{AeNets, load_module};
+use crate::dataset::{STYLES, Split};
+use crate::features::NormStats;
+use crate::model::weights::save_bundle;
+use crate::model::{MotionModel, StylizerNet};
+use crate::stylize::manifest::{FORMAT, Manifest, ModelEntry, StageRecord};
+
+/// Licence of the exported weights.
+pub const LICENCE: &str = "CC BY-NC 4.0 (trained on the Bandai-Namco Research Motion dataset); code MIT OR Apache-2.0";
+
+/// Rows of `loss.csv` averaged for the final losses.
+const FINAL_ROWS: usize = 100;
+
+/// Writes the weights folder `out` from the runs; returns the manifest written.
+pub fn export(sup: &Path, unsup: &Path, ae: &Path, out: &Path) -> anyhow::Result<Manifest> {
+    let ae_config: RunConfig = rundir::read_json(&ae.join(rundir::CONFIG))
+        .with_context(|| format!("--ae {}: not a training run folder", ae.display()))?;
+    ensure!(ae_config.stage == "ae", "--ae {}: a {} run, not an `ae` run", ae.display(), ae_config.stage);
+    let norm: NormStats = rundir::read_json(&ae.join(rundir::NORM))?;
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+
+    let mut models = Vec::new();
+    let mut window = None;
+    let mut split = None;
+    let mut ae_weights: Option<Vec<u8>> = None;
+    for (setting, dir, supervised) in [("supervised", sup, true), ("unsupervised", unsup, false)] {
+        let flag = if supervised { "--sup" } else { "--unsup" };
+        let config: RunConfig = rundir::read_json(&dir.join(rundir::CONFIG))
+            .with_context(|| format!("{flag} {}: not a training run folder", dir.display()))?;
+        ensure!(config.stage == "stylizer", "{flag} {}: a {} run, not a stylizer run", dir.display(), config.stage);
+        ensure!(
+            config.supervised == Some(supervised) && config.model.supervised == supervised,
+            "{flag} {}: not a{} {setting} run",
+            dir.display(),
+            if supervised { "" } else { "n" }
+        );
+        let run_norm: NormStats = rundir::read_json(&dir.join(rundir::NORM))?;
+        ensure!(
+            run_norm == norm,
+            "{flag} {}: its normalisation statistics differ from the autoencoder run's",
+            dir.display()
+        );
+        if let Some(w) = window
+            && w != config.window
+        {
+            bail!("the stylizer runs use different windows ({w} and {})", config.window);
+        }
+        window = Some(config.window);
+        split.get_or_insert_with(|| config.split.clone());
+        let ckpt = Checkpoint::read(&dir.join(rundir::CHECKPOINT))?;
+        let ae_ckpt = Checkpoint::read(&dir.join(rundir::AE_COPY))?;
+        match &ae_weights {
+            Some(w) if *w != ae_ckpt.weights => {
+                eprintln!("warning: the two stylizer runs were trained on different autoencoder checkpoints")
+            }
+            _ => ae_weights = Some(ae_ckpt.weights.clone()),
+        }
+        if let Some(recorded) = &config.ae_run
+            && !same_path(Path::new(recorded), ae)
+        {
+            eprintln!(
+                "warning: {flag} {} was trained on the autoencoder of {recorded}, not of --ae {}",
+                dir.display(),
+                ae.display()
+            );
+        }
+
+        let device = Device::flex();
+        let nets = load_module(AeNets::new(&config.model, &device), &ae_ckpt.weights)?;
+        let stylizer = load_module(StylizerNet::new(&config.model, &device), &ckpt.weights)?;
+        let model = MotionModel { autoencoder: nets.autoencoder, stylizer, regressor: nets.regressor };
+        let file = format!("{setting}.bin");
+        let bytes = save_bundle(&config.model, model)?;
+        rundir::write_atomic(&out.join(&file), &bytes)?;
+
+        models.push(ModelEntry {
+            setting: setting.into(),
+            file,
+            width: config.width,
+            stages: vec![stage_record(ae, &ae_config, ae_ckpt.meta.step)?, stage_record(dir, &config, ckpt.meta.step)?],
+        });
+    }
+
+    let split = split.expect("two runs");
+    let split_text =
+        std::fs::read_to_string(&split).with_context(|| format!("cannot read the runs' split file {split}"))?;
+    let heldout_takes = Split::parse(&split_text).with_context(|| format!("split file {split}"))?.len();
+    let manifest = Manifest {
+        format: FORMAT,
+        licence: LICENCE.into(),
+        styles: STYLES.iter().map(|s| s.to_string()).collect(),
+        norm: rundir::NORM.into(),
+        window: window.expect("two runs"),
+        split,
+        heldout_takes,
+        models,
+    };
+    rundir::write_json(&out.join(rundir::NORM), &norm)?;
+    rundir::write_json(&out.join("manifest.json"), &manifest)?;
+    Ok(manifest)
+}
+
+fn same_path(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    }
+}
+
+/// How the run in `dir` ran up to `step` (see the module docs).
+pub fn stage_record(dir: &Path, config: &RunConfig, step: u64) -> anyhow::Result<StageRecord> {
+    let log: RunLog = rundir::read_json(&dir.join(rundir::RUN_LOG))?;
+    let (total_steps, wall, per_step) = log.totals();
+    let seconds = if total_steps > step && total_steps > 0 { wall * step as f64 / total_steps as f64 } else { wall };
+
+    let losses = CsvTable::read(&dir.join(rundir::LOSS_CSV))?;
+    let rows = losses.up_to(step);
+    let tail = &rows[rows.len().saturating_sub(FINAL_ROWS)..];
+    let mut final_losses = BTreeMap::new();
+    for (i, name) in losses.columns.iter().enumerate() {
+        if name == "step" || name == "elapsed_s" || name.ends_with("lr") || tail.is_empty() {
+            continue;
+        }
+        let mean = tail.iter().map(|r| r.get(i).copied().unwrap_or(f64::NAN)).sum::<f64>() / tail.len() as f64;
+        final_losses.insert(name.clone(), mean);
+    }
+
+    let evals = CsvTable::read(&dir.join(rundir::EVAL_CSV))?;
+    let mut heldout = BTreeMap::new();
+    if let Some(row) = evals.up_to(step).last() {
+        for (name, v) in evals.columns.iter().zip(row.iter()) {
+            match name.as_str() {
+                "step" => {
+                    heldout.insert("eval_step".to_string(), *v);
+                }
+                "elapsed_s" => {}
+                _ => {
+                    heldout.insert(name.clone(), *v);
+                }
+            }
+        }
+    }
+
+    Ok(StageRecord {
+        stage: config.stage.clone(),
+        command: log.command(),
+        steps: step,
+        seed: config.seed,
+        batch: config.batch,
+        window: config.window,
+        seconds,
+        seconds_per_step: per_step,
+        machine: log.machine.clone(),
+        final_losses,
+        heldout,
+    })
+}

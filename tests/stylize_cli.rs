@@ -1,0 +1,158 @@
+//! `motion-stylizer stylize` and `styles` through the binary: outputs, rigs, seeds, file names and
+//! error messages.
+//!
+//! The weights folder holds UNTRAINED networks (see `stylize_support`): plumbing only; the quality
+//! test is `tests/stylize_quality.rs` (ignored until trained weights are committed).
+#![cfg(feature = "model")]
+
+mod stylize_support;
+
+use motion_stylizer::bvh::Bvh;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use stylize_support::*;
+
+fn cli(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_motion-stylizer")).args(args).output().expect("run the CLI")
+}
+
+fn ok(args: &[&str]) -> Output {
+    let out = cli(args);
+    assert!(out.status.success(), "{args:?} failed: {}", String::from_utf8_lossy(&out.stderr));
+    out
+}
+
+fn fails<S: AsRef<std::ffi::OsStr> + std::fmt::Debug>(args: &[S]) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_motion-stylizer")).args(args).output().expect("run the CLI");
+    assert!(!out.status.success(), "{args:?} should fail");
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn fixture(dir: &str, name: &str) -> String {
+    fixture_path(dir, name).to_str().unwrap().to_string()
+}
+
+fn read(p: &Path) -> Vec<u8> {
+    std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+/// `stylize CONTENT --weights W -o OUT` + `extra`; returns OUT.
+fn stylize(content: &str, out: &Path, extra: &[&str]) -> PathBuf {
+    let w = weights_dir();
+    let mut args = vec!["stylize", content, "--weights", s(w), "-o", s(out)];
+    args.extend_from_slice(extra);
+    ok(&args);
+    out.to_path_buf()
+}
+
+#[test]
+fn same_seed_same_bytes_other_seed_other_bytes() {
+    let dir = out_dir("cli-seed");
+    let content = fixture("bandai", SHORT);
+    for extra in [&["--label", "old"][..], &["--prior", "--unsupervised"][..]] {
+        let run = |seed: &str, name: &str| {
+            let mut args = extra.to_vec();
+            args.extend_from_slice(&["--seed", seed]);
+            read(&stylize(&content, &dir.join(name), &args))
+        };
+        let a = run("7", "a.bvh");
+        assert_eq!(a, run("7", "b.bvh"), "{extra:?}: same seed, other bytes");
+        assert_ne!(a, run("8", "c.bvh"), "{extra:?}: other seed, same bytes");
+        let bvh = Bvh::parse(std::str::from_utf8(&a).unwrap()).unwrap();
+        assert_eq!(bvh.frames, 38);
+    }
+}
+
+#[test]
+fn foreign_reference_output_on_the_content_rig_or_canonical() {
+    let dir = out_dir("cli-rig");
+    let content = fixture("bandai", SHORT);
+    let reference = fixture("foreign", "m21_walk");
+    let content_bvh = Bvh::parse(&fixture_text("bandai", SHORT)).unwrap();
+    for extra in [&["--unsupervised"][..], &["--label", "normal"][..]] {
+        let mut args = vec!["--style-motion", reference.as_str()];
+        args.extend_from_slice(extra);
+        let out = stylize(&content, &dir.join("rig.bvh"), &args);
+        let bvh = Bvh::parse(&String::from_utf8(read(&out)).unwrap()).unwrap();
+        assert_eq!(bvh.joints.len(), content_bvh.joints.len(), "{extra:?}");
+        assert_eq!(bvh.frames, 38);
+        // The output re-imports as a motion of the same length.
+        let again = motion_stylizer::skeleton::import(&bvh).unwrap();
+        assert_eq!(again.motion.frames(), 38);
+
+        args.push("--canonical");
+        let out = stylize(&content, &dir.join("canonical.bvh"), &args);
+        let bvh = Bvh::parse(&String::from_utf8(read(&out)).unwrap()).unwrap();
+        assert_eq!(bvh.joints.len(), 21);
+        assert_eq!(bvh.frames, 38);
+    }
+}
+
+#[test]
+fn samples_write_numbered_files() {
+    let dir = out_dir("cli-samples");
+    let content = fixture("bandai", WALK);
+    stylize(&content, &dir.join("out.bvh"), &["--label", "happy", "--samples", "3", "--seed", "1"]);
+    let names: Vec<String> = {
+        let mut v: Vec<_> =
+            std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+        v.sort();
+        v
+    };
+    assert_eq!(names, ["out_0.bvh", "out_1.bvh", "out_2.bvh"]);
+    let files: Vec<_> = names.iter().map(|n| read(&dir.join(n))).collect();
+    assert_ne!(files[0], files[1]);
+    assert_ne!(files[1], files[2]);
+    // One sample: exactly the given name.
+    stylize(&content, &dir.join("single.bvh"), &["--label", "happy", "--seed", "1"]);
+    assert!(dir.join("single.bvh").is_file());
+}
+
+#[test]
+fn errors_are_clear_and_exit_non_zero() {
+    let dir = out_dir("cli-errors");
+    let w = weights_dir();
+    let content = fixture("bandai", SHORT);
+    let out = dir.join("out.bvh");
+    let base = ["stylize", content.as_str(), "--weights", s(w), "-o", s(&out)];
+    let with = |extra: &[&str]| -> Vec<String> { base.iter().chain(extra).map(|a| a.to_string()).collect() };
+
+    let err = fails(&with(&["--label", "sleepy"]));
+    assert!(err.contains("unknown style label \"sleepy\""), "{err}");
+    assert!(err.contains("old") && err.contains("chimpira") && err.contains("not-confident"), "{err}");
+
+    let err = fails(&with(&["--label", "old", "--unsupervised"]));
+    assert!(err.contains("needs the supervised model"), "{err}");
+
+    let reference = fixture("foreign", "m21_walk");
+    let err = fails(&with(&["--style-motion", &reference]));
+    assert!(err.contains("style label of the reference"), "{err}");
+
+    let err = fails(&with(&[]));
+    assert!(err.contains("--style-motion") && err.contains("--prior"), "{err}");
+
+    let err = fails(&with(&["--prior", "--samples", "0"]));
+    assert!(err.contains("samples must be between 1 and 64"), "{err}");
+
+    let missing = dir.join("no-weights-here");
+    let err = fails(&["stylize", &content, "--label", "old", "--weights", s(&missing), "-o", s(&out)]);
+    assert!(err.contains("no trained weights at") && err.contains("--weights"), "{err}");
+
+    let err = fails(&with(&["--label", "old", "--style-motion", s(&dir.join("missing.bvh"))]));
+    assert!(err.contains("missing.bvh"), "{err}");
+    assert!(!out.exists(), "nothing is written on error");
+}
+
+#[test]
+fn styles_lists_the_labels() {
+    let out = ok(&["styles", "--weights", s(weights_dir())]);
+    let text = String::from_utf8(out.stdout).unwrap();
+    let labels: Vec<&str> = text.lines().collect();
+    assert_eq!(labels, motion_stylizer::dataset::STYLES);
+    let err = fails(&["styles", "--weights", s(&weights_dir().join("nope"))]);
+    assert!(err.contains("no trained weights"), "{err}");
+}

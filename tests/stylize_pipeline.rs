@@ -1,0 +1,352 @@
+//! The stylization pipeline as a library: lengths, determinism, samples, settings and labels,
+//! style mixes, weight loading errors.
+//!
+//! The weights are UNTRAINED (seeded networks at width 0.125, see `stylize_support`): these tests
+//! check the plumbing only. Whether the style actually moves toward the reference is tested in
+//! `tests/stylize_quality.rs` (ignored until trained weights are committed).
+#![cfg(feature = "model")]
+
+mod stylize_support;
+
+use motion_stylizer::Motion;
+use motion_stylizer::dataset::Style;
+use motion_stylizer::stylize::{
+    self, MAX_MIX_DEPTH, MAX_SAMPLES, Request, Setting, StyleSource, StylizeError, Weights, pad_features,
+    padded_frames, style_code_of,
+};
+use stylize_support::*;
+
+fn max_diff(a: &Motion, b: &Motion) -> f64 {
+    assert_eq!(a.frames(), b.frames());
+    let roots = a.root_positions().iter().zip(b.root_positions()).map(|(p, q)| (*p - *q).abs().max_element());
+    let rots = a
+        .rotations()
+        .iter()
+        .zip(b.rotations())
+        .flat_map(|(p, q)| p.iter().zip(q).map(|(x, y)| (x.dot(*y).abs() - 1.0).abs()));
+    roots.chain(rots).fold(0.0, f64::max)
+}
+
+fn label(w: &Weights, name: &str) -> Style {
+    w.style(name).unwrap()
+}
+
+#[test]
+fn padding_reflects_and_reaches_a_multiple_of_8() {
+    assert_eq!([0, 1, 7, 8, 9, 38, 160].map(padded_frames), [8, 8, 8, 8, 16, 40, 160]);
+    let m = import("bandai", SHORT).motion.slice(0, 3);
+    let f = motion_stylizer::features::extract(&m);
+    let p = pad_features(&f, 8);
+    assert_eq!(p.frames(), 8);
+    // 0 1 2 | 1 0 1 2 1
+    for (t, src) in [0, 1, 2, 1, 0, 1, 2, 1].into_iter().enumerate() {
+        assert_eq!(p.frame(t), f.frame(src), "frame {t}");
+    }
+    let one = motion_stylizer::features::extract(&m.slice(0, 1));
+    assert!(pad_features(&one, 8).rows().all(|r| r == one.frame(0)));
+}
+
+#[test]
+fn outputs_are_as_long_as_the_content_for_any_length() {
+    let w = weights();
+    let short = import("bandai", SHORT).motion;
+    assert_eq!(short.frames(), 38);
+    let walk = import("bandai", WALK).motion;
+    let contents =
+        [short.clone(), walk.clone(), walk.slice(0, 1), walk.slice(0, 5), walk.slice(0, 8), walk.slice(0, 9)];
+    for content in &contents {
+        for setting in [Setting::Supervised, Setting::Unsupervised] {
+            let source =
+                if setting == Setting::Supervised { StyleSource::Label(label(&w, "old")) } else { StyleSource::Prior };
+            let request = Request::new(source).with_setting(setting).with_samples(2).with_seed(3);
+            let out = stylize::stylize(&w, content, &request).unwrap();
+            assert_eq!(out.len(), 2);
+            for m in &out {
+                assert_eq!(m.frames(), content.frames(), "{setting}");
+            }
+        }
+    }
+}
+
+#[test]
+fn different_labels_give_different_motions() {
+    let w = weights();
+    let content = import("bandai", SHORT).motion;
+    let run = |name: &str| {
+        let request = Request::new(StyleSource::Label(label(&w, name))).with_seed(5);
+        stylize::stylize(&w, &content, &request).unwrap().remove(0)
+    };
+    let (old, happy) = (run("old"), run("happy"));
+    assert_eq!(old.frames(), 38);
+    assert!(max_diff(&old, &happy) > 1e-3, "labels old and happy gave the same motion");
+}
+
+#[test]
+fn same_seed_same_bits_other_seed_other_motion() {
+    let w = weights();
+    let content = import("bandai", WALK).motion;
+    let cases = [
+        (StyleSource::Label(label(&w, "tired")), Setting::Supervised),
+        (StyleSource::Prior, Setting::Supervised),
+        (StyleSource::Prior, Setting::Unsupervised),
+    ];
+    for (source, setting) in cases {
+        let request = Request::new(source.clone()).with_setting(setting).with_seed(42);
+        let a = stylize::stylize(&w, &content, &request).unwrap();
+        let b = stylize::stylize(&w, &content, &request).unwrap();
+        assert_eq!(a, b, "{source:?} {setting}: same seed, other output");
+        let c = stylize::stylize(&w, &content, &request.clone().with_seed(43)).unwrap();
+        assert!(max_diff(&a[0], &c[0]) > 1e-4, "{source:?} {setting}: other seed, same output");
+    }
+}
+
+#[test]
+fn samples_are_batched_distinct_and_the_first_matches_a_single_run() {
+    let w = weights();
+    let content = import("bandai", WALK).motion;
+    let request = Request::new(StyleSource::Label(label(&w, "proud"))).with_seed(9);
+    let one = stylize::stylize(&w, &content, &request).unwrap();
+    let three = stylize::stylize(&w, &content, &request.clone().with_samples(3)).unwrap();
+    assert_eq!(three.len(), 3);
+    // Sample i uses the i-th style draw: the first of three is the single run's (up to the
+    // rounding of a batched matmul).
+    assert!(max_diff(&one[0], &three[0]) < 1e-3, "{}", max_diff(&one[0], &three[0]));
+    for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+        assert!(max_diff(&three[i], &three[j]) > 1e-4, "samples {i} and {j} equal");
+    }
+    for bad in [0, MAX_SAMPLES + 1] {
+        let err = stylize::stylize(&w, &content, &request.clone().with_samples(bad)).unwrap_err();
+        assert_eq!(err, StylizeError::Samples { got: bad, max: MAX_SAMPLES });
+    }
+}
+
+#[test]
+fn motion_based_with_a_foreign_rig_reference() {
+    let w = weights();
+    let content = import("bandai", SHORT).motion;
+    let reference = import("foreign", "m21_walk").motion;
+
+    // Unsupervised: no label; one sample is the posterior mean, so the seed does not matter.
+    let request = Request::new(StyleSource::motion(&reference)).with_setting(Setting::Unsupervised);
+    let a = stylize::stylize(&w, &content, &request).unwrap();
+    let b = stylize::stylize(&w, &content, &request.clone().with_seed(77)).unwrap();
+    assert_eq!(a, b);
+    assert_eq!(a[0].frames(), content.frames());
+    // Several samples are draws from the posterior.
+    let many = stylize::stylize(&w, &content, &request.clone().with_samples(2)).unwrap();
+    assert!(max_diff(&many[0], &many[1]) > 1e-4);
+
+    // Supervised: the reference's label is needed.
+    let err = stylize::stylize(&w, &content, &request.clone().with_setting(Setting::Supervised)).unwrap_err();
+    assert_eq!(err, StylizeError::MotionNeedsLabel);
+    let labelled = Request::new(StyleSource::labelled_motion(&reference, label(&w, "normal")));
+    let out = stylize::stylize(&w, &content, &labelled).unwrap();
+    assert_eq!(out[0].frames(), content.frames());
+    let err = stylize::stylize(&w, &content, &labelled.with_setting(Setting::Unsupervised)).unwrap_err();
+    assert_eq!(err, StylizeError::LabelWithUnsupervised);
+}
+
+#[test]
+fn the_output_starts_where_the_content_starts() {
+    let w = weights();
+    let content = import("bandai", WALK).motion;
+    let out = stylize::stylize(&w, &content, &Request::new(StyleSource::Prior)).unwrap().remove(0);
+    let (p, q) = (content.root_positions()[0], out.root_positions()[0]);
+    assert!((p.x - q.x).abs() < 1e-6 && (p.z - q.z).abs() < 1e-6, "{p} vs {q}");
+}
+
+#[test]
+fn label_rules() {
+    let w = weights();
+    let content = import("bandai", SHORT).motion;
+    let old = label(&w, "OLD");
+    assert_eq!(w.style_name(old), Some("old"));
+    match w.style("sleepy") {
+        Err(StylizeError::UnknownLabel { name, valid }) => {
+            assert_eq!(name, "sleepy");
+            assert_eq!(valid.len(), 16);
+            let msg = w.style("sleepy").unwrap_err().to_string();
+            assert!(msg.contains("old") && msg.contains("chimpira"), "{msg}");
+        }
+        other => panic!("{other:?}"),
+    }
+    let unsup = Request::new(StyleSource::Label(old)).with_setting(Setting::Unsupervised);
+    assert_eq!(stylize::stylize(&w, &content, &unsup).unwrap_err(), StylizeError::LabelNeedsSupervised);
+    let out_of_range = Request::new(StyleSource::Label(Style(16)));
+    assert_eq!(
+        stylize::stylize(&w, &content, &out_of_range).unwrap_err(),
+        StylizeError::LabelOutOfRange { index: 16, count: 16 }
+    );
+}
+
+#[test]
+fn style_mixes() {
+    let w = weights();
+    let content = import("bandai", SHORT).motion;
+    let (old, happy) = (StyleSource::Label(label(&w, "old")), StyleSource::Label(label(&w, "happy")));
+    let run = |source: StyleSource<'_>| stylize::stylize(&w, &content, &Request::new(source).with_seed(4));
+    let alone = run(old.clone()).unwrap();
+    // a's noise is drawn first, so t = 0 is exactly a.
+    assert_eq!(run(StyleSource::mix(old.clone(), happy.clone(), 0.0)).unwrap(), alone);
+    let half = run(StyleSource::mix(old.clone(), happy.clone(), 0.5)).unwrap();
+    assert!(max_diff(&half[0], &alone[0]) > 1e-4);
+    for t in [-0.1, 1.5, f32::NAN] {
+        assert!(matches!(run(StyleSource::mix(old.clone(), happy.clone(), t)), Err(StylizeError::MixWeight { .. })));
+    }
+    let reference = import("bandai", "dataset-2_walk_elderly_001_f120").motion;
+    let motion_mix = StyleSource::mix(StyleSource::motion(&reference), StyleSource::Prior, 0.3);
+    let out = stylize::stylize(&w, &content, &Request::new(motion_mix).with_setting(Setting::Unsupervised)).unwrap();
+    assert_eq!(out[0].frames(), content.frames());
+    let mut deep = StyleSource::Prior;
+    for _ in 0..=MAX_MIX_DEPTH {
+        deep = StyleSource::mix(deep, StyleSource::Prior, 0.5);
+    }
+    assert_eq!(run(deep).unwrap_err(), StylizeError::MixTooDeep { max: MAX_MIX_DEPTH });
+}
+
+#[test]
+fn style_codes_of_motions() {
+    let w = weights();
+    let walk = import("bandai", WALK).motion;
+    let code = style_code_of(&w, Setting::Unsupervised, &walk, None).unwrap();
+    assert_eq!(code.len(), config(false).style_dim);
+    assert_eq!(code, style_code_of(&w, Setting::Unsupervised, &walk, None).unwrap());
+    assert!(code.iter().all(|v| v.is_finite()));
+    let err = style_code_of(&w, Setting::Supervised, &walk, None).unwrap_err();
+    assert_eq!(err, StylizeError::MotionNeedsLabel);
+    let sup = style_code_of(&w, Setting::Supervised, &walk, Some(label(&w, "normal"))).unwrap();
+    assert_eq!(sup.len(), config(true).style_dim);
+}
+
+#[test]
+fn weights_from_bytes_refuse_what_they_cannot_use() {
+    let f = files();
+    let load = |m: &[u8], n: &[u8], s: Option<&[u8]>, u: Option<&[u8]>| Weights::from_bytes(m, n, s, u);
+    let bad = |r: Result<Weights, StylizeError>| match r {
+        Err(StylizeError::BadWeights(msg)) => msg,
+        other => panic!("expected BadWeights, got {other:?}"),
+    };
+    // Only one setting: the other is unavailable.
+    let sup_only = load(&f.manifest, &f.norm, Some(&f.supervised), None).unwrap();
+    assert_eq!(sup_only.settings(), vec![Setting::Supervised]);
+    let content = import("bandai", SHORT).motion;
+    let request = Request::new(StyleSource::Prior).with_setting(Setting::Unsupervised);
+    assert_eq!(
+        stylize::stylize(&sup_only, &content, &request).unwrap_err(),
+        StylizeError::SettingUnavailable { setting: Setting::Unsupervised }
+    );
+
+    bad(load(b"{", &f.norm, Some(&f.supervised), None));
+    bad(load(&f.manifest, b"{\"mean\": [0.0], \"std\": [1.0]}", Some(&f.supervised), None));
+    bad(load(&f.manifest, &f.norm, None, None));
+    let msg = bad(load(&f.manifest, &f.norm, Some(&f.unsupervised), None));
+    assert!(msg.contains("unsupervised"), "{msg}");
+    bad(load(&f.manifest, &f.norm, Some(b"garbage"), None));
+    for cut in [4, 12, 40, f.supervised.len() / 2, f.supervised.len() - 1] {
+        bad(load(&f.manifest, &f.norm, Some(&f.supervised[..cut]), None));
+    }
+    // A bundle whose config does not describe its networks, or asks for absurd widths.
+    let rewrap = |cfg: &motion_stylizer::model::ModelConfig| {
+        let len = u32::from_le_bytes(f.supervised[8..12].try_into().unwrap()) as usize;
+        let json = serde_json::to_vec(cfg).unwrap();
+        let mut out = f.supervised[..8].to_vec();
+        out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+        out.extend_from_slice(&json);
+        out.extend_from_slice(&f.supervised[12 + len..]);
+        out
+    };
+    bad(load(&f.manifest, &f.norm, Some(&rewrap(&config(true).with_width_factor(2.0))), None));
+    let mut huge = config(true);
+    huge.generator_hidden[1] = 1 << 30;
+    bad(load(&f.manifest, &f.norm, Some(&rewrap(&huge)), None));
+    let mut manifest = manifest();
+    manifest.styles.truncate(4);
+    let msg = bad(load(&serde_json::to_vec(&manifest).unwrap(), &f.norm, Some(&f.supervised), None));
+    assert!(msg.contains("16") && msg.contains('4'), "{msg}");
+    manifest.format = 99;
+    bad(load(&serde_json::to_vec(&manifest).unwrap(), &f.norm, Some(&f.supervised), None));
+}
+
+#[test]
+fn weights_load_from_a_folder() {
+    let w = Weights::load_dir(weights_dir()).unwrap();
+    assert_eq!(w.settings(), vec![Setting::Supervised, Setting::Unsupervised]);
+    assert_eq!(w.styles().len(), 16);
+    let missing = Weights::load_dir(weights_dir().join("nope")).unwrap_err();
+    assert!(matches!(missing, StylizeError::Read { .. }), "{missing:?}");
+}
+
+/// Timing of one 160-frame stylization and of 10 samples at width 0.5 (untrained weights), in
+/// the library (networks + features) and end to end through the CLI (load the weights, import,
+/// stylize, write the BVHs). Prints; asserts nothing (timings depend on the machine).
+/// `cargo test --release --test stylize_pipeline -- --ignored --nocapture timing`
+#[test]
+#[ignore]
+fn timing_160_frames_width_half() {
+    use burn::prelude::*;
+    use motion_stylizer::model::weights::save_bundle;
+    use motion_stylizer::model::{ModelConfig, MotionModel};
+    let cfg = ModelConfig::scaled(0.5).with_num_styles(16);
+    let bundle = save_bundle(&cfg, MotionModel::seeded(&cfg, &Device::flex(), 1)).unwrap();
+    let f = files();
+    let w = Weights::from_bytes(&f.manifest, &f.norm, Some(&bundle), None).unwrap();
+    let walk = import("bandai", WALK).motion;
+    // 160 frames: the walk and its first 40 frames again.
+    let content = {
+        let mut root = walk.root_positions().to_vec();
+        let mut rot = walk.rotations().to_vec();
+        root.extend_from_slice(&walk.root_positions()[..40]);
+        rot.extend_from_slice(&walk.rotations()[..40]);
+        Motion::new(root, rot).unwrap()
+    };
+    assert_eq!(content.frames(), 160);
+    let old = w.style("old").unwrap();
+    let runs = 10;
+    let time = |request: &Request<'_>| {
+        stylize::stylize(&w, &content, request).unwrap();
+        let start = std::time::Instant::now();
+        for _ in 0..runs {
+            stylize::stylize(&w, &content, request).unwrap();
+        }
+        start.elapsed().as_secs_f64() / runs as f64
+    };
+    let one = time(&Request::new(StyleSource::Label(old)));
+    let ten = time(&Request::new(StyleSource::Label(old)).with_samples(10));
+    println!(
+        "library, width 0.5, 160 frames: 1 sample {:.1} ms, 10 samples {:.1} ms ({:.2}x)",
+        one * 1e3,
+        ten * 1e3,
+        ten / one
+    );
+
+    let dir = out_dir("timing");
+    let wdir = dir.join("weights");
+    std::fs::create_dir_all(&wdir).unwrap();
+    let mut manifest = manifest();
+    manifest.models.retain(|m| m.setting == "supervised");
+    std::fs::write(wdir.join("manifest.json"), serde_json::to_vec(&manifest).unwrap()).unwrap();
+    std::fs::write(wdir.join("norm.json"), &f.norm).unwrap();
+    std::fs::write(wdir.join("supervised.bin"), &bundle).unwrap();
+    let content_path = dir.join("content.bvh");
+    std::fs::write(&content_path, import("bandai", WALK).rig.from_canonical(&content).to_bvh_string()).unwrap();
+    let cli = |samples: &str| {
+        let start = std::time::Instant::now();
+        for _ in 0..runs {
+            let status = std::process::Command::new(env!("CARGO_BIN_EXE_motion-stylizer"))
+                .args(["stylize", content_path.to_str().unwrap(), "--label", "old", "--samples", samples])
+                .args(["--weights", wdir.to_str().unwrap(), "-o", dir.join("out.bvh").to_str().unwrap()])
+                .stderr(std::process::Stdio::null())
+                .status()
+                .unwrap();
+            assert!(status.success());
+        }
+        start.elapsed().as_secs_f64() / runs as f64
+    };
+    let (one, ten) = (cli("1"), cli("10"));
+    println!(
+        "CLI end to end, width 0.5, 160 frames: 1 sample {:.1} ms, 10 samples {:.1} ms ({:.2}x)",
+        one * 1e3,
+        ten * 1e3,
+        ten / one
+    );
+}
