@@ -200,27 +200,8 @@ fn frame_count_at_and_over_the_limit() {
     assert!(matches!(Bvh::parse(&text), Err(BvhError::LimitExceeded { line: 17, what: "frames", .. })));
 }
 
-const SMALL: &str = "HIERARCHY
-ROOT Hips
-{
-\tOFFSET 0 0 0
-\tCHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation
-\tJOINT Spine
-\t{
-\t\tOFFSET 0 10 0
-\t\tCHANNELS 3 Zrotation Xrotation Yrotation
-\t\tEnd Site
-\t\t{
-\t\t\tOFFSET 0 5 0
-\t\t}
-\t}
-}
-MOTION
-Frames: 2
-Frame Time: 0.0333333
-0 90 0 0 0 0 10 0 0
-1 90 0 0 0 0 20 0 0
-";
+/// A hand-written file with two joints, an End Site and two frames.
+const SMALL: &str = include_str!("fixtures/small.bvh");
 
 fn fixture(rel: &str) -> Vec<u8> {
     std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures").join(rel)).unwrap()

@@ -237,27 +237,7 @@ fn scientific_notation() {
 }
 
 /// A hand-written file with two joints, an End Site and two frames.
-const SMALL: &str = "HIERARCHY
-ROOT Hips
-{
-\tOFFSET 0 0 0
-\tCHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation
-\tJOINT Spine
-\t{
-\t\tOFFSET 0 10 0
-\t\tCHANNELS 3 Zrotation Xrotation Yrotation
-\t\tEnd Site
-\t\t{
-\t\t\tOFFSET 0 5 0
-\t\t}
-\t}
-}
-MOTION
-Frames: 2
-Frame Time: 0.0333333
-0 90 0 0 0 0 10 0 0
-1 90 0 0 0 0 20 0 0
-";
+const SMALL: &str = include_str!("fixtures/small.bvh");
 
 #[test]
 fn any_channel_layout() {

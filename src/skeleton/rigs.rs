@@ -101,33 +101,10 @@ const BANDAI_TABLE: &[(usize, &[&str])] = &[
 
 /// CMU-31 (`LHipJoint`, `LowerBack`, `Neck`, `Neck1`, …). `Neck1` plays the neck: CMU's `Neck` starts
 /// at the top of `Spine1` (zero-length bone), while `Neck1` sits where the canonical Neck does, just
-/// above the shoulders. `LowerBack` and `Neck` stay unmatched.
+/// above the shoulders. `LowerBack` and `Neck` stay unmatched. The 21-joint rig of
+/// Semi-Motion-Style-Transfer (`m21`: `Spine`, `Spine1`, `Neck1`, …) uses the same names, so it shares
+/// this table (`Neck` as a fallback for rigs without `Neck1`).
 const CMU31_TABLE: &[(usize, &[&str])] = &[
-    (HIPS, &["Hips"]),
-    (SPINE, &["Spine"]),
-    (CHEST, &["Spine1"]),
-    (NECK, &["Neck1"]),
-    (HEAD, &["Head"]),
-    (SHOULDER_L, &["LeftShoulder"]),
-    (UPPER_ARM_L, &["LeftArm"]),
-    (LOWER_ARM_L, &["LeftForeArm"]),
-    (HAND_L, &["LeftHand"]),
-    (SHOULDER_R, &["RightShoulder"]),
-    (UPPER_ARM_R, &["RightArm"]),
-    (LOWER_ARM_R, &["RightForeArm"]),
-    (HAND_R, &["RightHand"]),
-    (UPPER_LEG_L, &["LeftUpLeg"]),
-    (LOWER_LEG_L, &["LeftLeg"]),
-    (FOOT_L, &["LeftFoot"]),
-    (TOES_L, &["LeftToeBase"]),
-    (UPPER_LEG_R, &["RightUpLeg"]),
-    (LOWER_LEG_R, &["RightLeg"]),
-    (FOOT_R, &["RightFoot"]),
-    (TOES_R, &["RightToeBase"]),
-];
-
-/// The 21-joint rig of Semi-Motion-Style-Transfer (`Spine`, `Spine1`, `Neck1`, …).
-const M21_TABLE: &[(usize, &[&str])] = &[
     (HIPS, &["Hips"]),
     (SPINE, &["Spine"]),
     (CHEST, &["Spine1"]),
@@ -222,7 +199,7 @@ pub static SCHEMES: [Scheme; 5] = [
         eligible: |_, n| has(n, "lhipjoint") || has(n, "lowerback"),
         base_pose: None,
     },
-    Scheme { name: "m21", table: M21_TABLE, eligible: |_, n| has(n, "neck1"), base_pose: None },
+    Scheme { name: "m21", table: CMU31_TABLE, eligible: |_, n| has(n, "neck1"), base_pose: None },
     Scheme { name: "cc_base", table: CC_BASE_TABLE, eligible: always, base_pose: Some(CC_BASE_POSE) },
     Scheme {
         name: "mixamo",
