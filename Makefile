@@ -8,7 +8,7 @@ DATA_SRC ?= ../shared/data/bandai-namco
 
 .PHONY: data demo test test-rust test-js setup-js bench fuzz clean
 
-## demo: build the CLI and run it on the bundled clips (inspect + retarget onto the canonical rig and back)
+## demo: build the CLI and run it on the bundled clips: inspect, retarget onto the canonical rig and back, stylize
 demo:
 	$(CARGO) build --release --bin motion-stylizer
 	mkdir -p $(DEMO_OUT)
@@ -18,6 +18,12 @@ demo:
 	  ./target/release/motion-stylizer retarget $$f -o $(DEMO_OUT)/$$name.canonical.bvh; \
 	  ./target/release/motion-stylizer retarget $(DEMO_OUT)/$$name.canonical.bvh --onto $$f -o $(DEMO_OUT)/$$name.back.bvh; \
 	done
+	./target/release/motion-stylizer styles
+	for label in old proud tired; do \
+	  ./target/release/motion-stylizer stylize tests/fixtures/foreign/m21_walk.bvh --label $$label --seed 1 -o $(DEMO_OUT)/m21_walk.$$label.bvh; \
+	done
+	./target/release/motion-stylizer stylize tests/fixtures/bandai/dataset-2_walk_normal_001_f120.bvh \
+	  --style-motion tests/fixtures/bandai/dataset-2_walk_elderly_001_f120.bvh --unsupervised -o $(DEMO_OUT)/walk_normal.like_elderly.bvh
 	@echo "Demo outputs in $(DEMO_OUT)/ (open the .bvh files in any BVH viewer)"
 
 ## test: every test — Rust unit/integration tests, then the three.js compatibility check in Node
