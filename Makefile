@@ -6,7 +6,7 @@ DEMO_OUT ?= out/demo
 
 DATA_SRC ?= ../shared/data/bandai-namco
 
-.PHONY: data demo test test-rust test-js setup-js bench fuzz clean
+.PHONY: data demo test test-rust test-js setup-js bench fuzz clean pkg setup-wasm test-wasm bench-wasm
 
 ## demo: build the CLI and run it on the bundled clips: inspect, retarget onto the canonical rig and back, stylize
 demo:
@@ -26,8 +26,8 @@ demo:
 	  --style-motion tests/fixtures/bandai/dataset-2_walk_elderly_001_f120.bvh --unsupervised -o $(DEMO_OUT)/walk_normal.like_elderly.bvh
 	@echo "Demo outputs in $(DEMO_OUT)/ (open the .bvh files in any BVH viewer)"
 
-## test: every test — Rust unit/integration tests, then the three.js compatibility check in Node
-test: test-rust test-js
+## test: every test — Rust unit/integration tests, then the three.js compatibility check in Node, then the wasm package
+test: test-rust test-js test-wasm
 
 test-rust:
 	$(CARGO) test --release
@@ -37,6 +37,26 @@ setup-js:
 
 test-js: setup-js
 	node --test tests/js/
+
+## pkg: build the npm package `motion-stylizer` into pkg/ (wasm32 + wasm-bindgen --target web, JS wrapper, weights)
+pkg:
+	scripts/build-pkg.sh
+
+## setup-wasm: the wasm32 target and wasm-bindgen-cli at Cargo.lock's version (idempotent)
+setup-wasm:
+	scripts/setup-wasm.sh
+
+## test-wasm: the wasm facade's tests in Node, the ndarray backend's wasm build, the package vs the native CLI, npm pack
+test-wasm: setup-wasm pkg
+	$(CARGO) test --release --target wasm32-unknown-unknown --no-default-features --features model,wasm --test wasm_facade
+	$(CARGO) check --release --lib --target wasm32-unknown-unknown --no-default-features --features model,wasm,ndarray
+	$(CARGO) build --release --bin motion-stylizer
+	node --test tests/npm/
+
+## bench-wasm: wasm (Node, one thread) vs native for one 160-frame stylization and for 10 samples; load time
+bench-wasm: pkg
+	$(CARGO) build --release --example stylize_bench
+	node bench/wasm/run.mjs
 
 ## bench: parse + retarget + features throughput, and BVH parsing against three.js
 bench:

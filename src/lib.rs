@@ -15,5 +15,7 @@ pub mod skeleton;
 pub mod stylize;
 #[cfg(all(feature = "model", not(target_arch = "wasm32")))]
 pub mod train;
+#[cfg(all(feature = "wasm", target_arch = "wasm32"))]
+pub mod wasm;
 
 pub use motion::{Motion, MotionError};

@@ -1,10 +1,19 @@
-//! The `motion-stylizer` command-line tool.
+//! The `motion-stylizer` command-line tool (native only: on wasm32 the crate is the npm package's
+//! library, and this binary is an empty stub so that `cargo test --target wasm32-unknown-unknown`
+//! builds).
 
+#[cfg(not(target_arch = "wasm32"))]
 mod cli;
 
+#[cfg(not(target_arch = "wasm32"))]
 use clap::Parser;
+#[cfg(not(target_arch = "wasm32"))]
 use std::process::ExitCode;
 
+#[cfg(target_arch = "wasm32")]
+fn main() {}
+
+#[cfg(not(target_arch = "wasm32"))]
 fn main() -> ExitCode {
     let args = cli::Cli::parse();
     match cli::run(args) {

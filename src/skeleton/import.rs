@@ -28,6 +28,20 @@ pub enum ImportError {
     Motion(#[from] MotionError),
 }
 
+impl ImportError {
+    /// A stable, machine-readable name of the failure class (the npm package's `error.code`).
+    pub fn code(&self) -> &'static str {
+        match self {
+            ImportError::Bvh(_) => "BVH_PARSE",
+            ImportError::MissingJoints { .. } => "RIG_UNMATCHED",
+            ImportError::Degenerate { .. } => "RIG_DEGENERATE",
+            ImportError::RigMismatch { .. } => "RIG_MISMATCH",
+            ImportError::TooLong { .. } => "TOO_LONG",
+            ImportError::Motion(_) => "BAD_MOTION",
+        }
+    }
+}
+
 /// A BVH brought onto the canonical rig, with the rig to take motions back.
 #[derive(Clone, Debug)]
 pub struct Imported {

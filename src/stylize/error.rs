@@ -62,6 +62,32 @@ pub enum StylizeError {
     Model(String),
 }
 
+impl StylizeError {
+    /// A stable, machine-readable name of the failure class (the npm package's `error.code`):
+    /// `UNKNOWN_LABEL`, `SETTING_UNAVAILABLE`, `BAD_REQUEST` (a request the model cannot serve:
+    /// samples, mix weight or depth, a label where none fits or none where one is needed),
+    /// `TOO_LONG`, `BAD_WEIGHTS`, `MODEL_OUTPUT`, `INTERNAL`, or the import's code
+    /// ([`ImportError::code`]).
+    pub fn code(&self) -> &'static str {
+        use StylizeError::*;
+        match self {
+            UnknownLabel { .. } | LabelOutOfRange { .. } => "UNKNOWN_LABEL",
+            SettingUnavailable { .. } => "SETTING_UNAVAILABLE",
+            LabelNeedsSupervised
+            | MotionNeedsLabel
+            | LabelWithUnsupervised
+            | Samples { .. }
+            | MixWeight { .. }
+            | MixTooDeep { .. } => "BAD_REQUEST",
+            TooLong { .. } => "TOO_LONG",
+            BadWeights(_) | Read { .. } => "BAD_WEIGHTS",
+            Import(e) => e.code(),
+            Features(_) => "MODEL_OUTPUT",
+            Model(_) => "INTERNAL",
+        }
+    }
+}
+
 impl From<ModelError> for StylizeError {
     fn from(e: ModelError) -> Self {
         match e {

@@ -1,0 +1,58 @@
+// wasm (Node, one thread) vs native: one 160-frame stylization and 10 samples of it, label-based
+// (supervised), BVH text on the content's rig; median of REPEATS after a warm-up, both sides.
+// Also: weights load time, package size. Run by `make bench-wasm` (after `make pkg`).
+//
+//   node bench/wasm/run.mjs [REPEATS]        (MOTION_STYLIZER_NATIVE_BENCH: the native command)
+
+import { execFileSync } from 'node:child_process';
+import { mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import { pathToFileURL } from 'node:url';
+import { clip160 } from './clip.mjs';
+
+const root = new URL('../../', import.meta.url).pathname;
+const repeats = Number(process.argv[2] ?? 5);
+const dir = mkdtempSync(join(tmpdir(), 'ms-bench-'));
+const contentPath = join(dir, 'walk160.bvh');
+writeFileSync(contentPath, clip160(readFileSync(join(root, 'tests/fixtures/bandai/dataset-2_walk_normal_001_f120.bvh'), 'utf8')));
+
+// wasm
+const { Stylizer } = await import(pathToFileURL(join(root, 'pkg/index.js')));
+const stylizer = await Stylizer.load();
+const content = stylizer.importBvh(readFileSync(contentPath, 'utf8'));
+async function time(samples) {
+  const once = async () => {
+    const t = performance.now();
+    const outs = await stylizer.stylize(content, { label: 'old', samples, seed: 7 });
+    outs.map((o) => o.toBvh());
+    return performance.now() - t;
+  };
+  await once();
+  const ms = [];
+  for (let i = 0; i < repeats; i++) ms.push(await once());
+  ms.sort((a, b) => a - b);
+  return ms[Math.floor(ms.length / 2)];
+}
+const wasm = { frames: content.frames, load_ms: stylizer.loadMs, one_ms: await time(1), ten_ms: await time(10) };
+
+// native, one thread (as the wasm) and all threads
+const nativeCmd = (process.env.MOTION_STYLIZER_NATIVE_BENCH ?? join(root, 'target/release/examples/stylize_bench')).split(' ');
+const native = (threads) =>
+  JSON.parse(
+    execFileSync(nativeCmd[0], [...nativeCmd.slice(1), contentPath, String(repeats)], {
+      env: { ...process.env, RAYON_NUM_THREADS: String(threads) },
+      encoding: 'utf8',
+    }),
+  );
+const n1 = native(1);
+const nAll = native(0);
+
+const f = (x) => x.toFixed(1).padStart(8);
+console.log(`content: ${wasm.frames} frames (30 fps), label-based, median of ${repeats}`);
+console.log(`                      wasm (Node)  native 1 thread  native all threads   wasm ÷ native 1T`);
+console.log(`1 stylization (ms)    ${f(wasm.one_ms)}     ${f(n1.one_ms)}        ${f(nAll.one_ms)}         ${(wasm.one_ms / n1.one_ms).toFixed(2).padStart(6)}`);
+console.log(`10 samples (ms)       ${f(wasm.ten_ms)}     ${f(n1.ten_ms)}        ${f(nAll.ten_ms)}         ${(wasm.ten_ms / n1.ten_ms).toFixed(2).padStart(6)}`);
+console.log(`weights load (ms)     ${f(wasm.load_ms)}     ${f(n1.load_ms)}   (wasm: module start-up + reading + loading both models)`);
+const pkgWasm = readFileSync(join(root, 'pkg/engine_bg.wasm')).length;
+console.log(`engine_bg.wasm: ${(pkgWasm / 1e6).toFixed(2)} MB`);

@@ -1,0 +1,44 @@
+//! Native side of the wasm benchmark (`bench/wasm/run.mjs`, `make bench-wasm`): times one
+//! stylization of CONTENT (label-based, supervised, output BVH text on the content's rig) with 1
+//! and with 10 samples, after one warm-up; prints one JSON line of median milliseconds.
+//!
+//! `cargo run --release --example stylize_bench -- CONTENT.bvh [REPEATS]` (threads: RAYON_NUM_THREADS)
+
+use motion_stylizer::skeleton;
+use motion_stylizer::stylize::{self, Request, StyleSource, Weights};
+use std::time::Instant;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let path = args.next().ok_or("usage: stylize_bench CONTENT.bvh [REPEATS]")?;
+    let repeats: usize = args.next().map(|s| s.parse()).transpose()?.unwrap_or(5);
+    let t = Instant::now();
+    let weights = Weights::load_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/weights"))?;
+    let load_ms = t.elapsed().as_secs_f64() * 1e3;
+    let content = skeleton::import_bvh(&std::fs::read_to_string(&path)?)?;
+    let old = weights.style("old")?;
+
+    let mut time = |samples: usize| -> Result<f64, Box<dyn std::error::Error>> {
+        let request = Request::new(StyleSource::Label(old)).with_samples(samples).with_seed(7);
+        let mut once = || -> Result<f64, Box<dyn std::error::Error>> {
+            let t = Instant::now();
+            let texts: Vec<String> = stylize::stylize(&weights, &content.motion, &request)?
+                .iter()
+                .map(|m| content.rig.from_canonical(m).to_bvh_string())
+                .collect();
+            std::hint::black_box(texts);
+            Ok(t.elapsed().as_secs_f64() * 1e3)
+        };
+        once()?;
+        let mut ms = (0..repeats).map(|_| once()).collect::<Result<Vec<_>, _>>()?;
+        ms.sort_by(f64::total_cmp);
+        Ok(ms[ms.len() / 2])
+    };
+    let one = time(1)?;
+    let ten = time(10)?;
+    println!(
+        "{{\"frames\":{},\"load_ms\":{load_ms:.1},\"one_ms\":{one:.2},\"ten_ms\":{ten:.2}}}",
+        content.motion.frames()
+    );
+    Ok(())
+}

@@ -1,0 +1,106 @@
+// Type declarations of the motion-stylizer npm package (the API of index.js).
+
+/** Stable `code` of every error the package throws (an `Error` with `code` and `message`). */
+export type ErrorCode =
+  | 'BVH_PARSE' // the text is not BVH the reader accepts (also has `line` and `kind`)
+  | 'RIG_UNMATCHED' // the skeleton lacks joints the canonical rig needs
+  | 'RIG_DEGENERATE' // the skeleton has no usable geometry
+  | 'RIG_MISMATCH'
+  | 'TOO_LONG' // a clip beyond the limits (stylization: 9,000 frames at 30 fps)
+  | 'BAD_MOTION' // the motion has non-finite values
+  | 'UNKNOWN_LABEL' // a style label the weights do not know
+  | 'SETTING_UNAVAILABLE' // the supervised/unsupervised model was not loaded
+  | 'BAD_REQUEST' // options the API or the model cannot serve
+  | 'BAD_WEIGHTS' // weight files that cannot be used
+  | 'BACKEND_UNAVAILABLE' // a backend this build does not have
+  | 'FETCH' // a package or weights file could not be fetched
+  | 'MODEL_OUTPUT'
+  | 'INTERNAL';
+
+export interface StylizerError extends Error {
+  code: ErrorCode;
+  /** BVH_PARSE only: 1-based line and the reader's error kind (e.g. 'TooFewFrames'). */
+  line?: number;
+  kind?: string;
+}
+
+export type Bytes = Uint8Array | ArrayBuffer | ArrayBufferView;
+
+export interface WeightFiles {
+  manifest: Bytes | string;
+  norm: Bytes | string;
+  supervised?: Bytes;
+  unsupervised?: Bytes;
+}
+
+export interface LoadOptions {
+  /** Default: the weights shipped in the package. A folder URL, or the files' bytes. */
+  weights?: string | URL | WeightFiles;
+  /** 'cpu' (default, Burn flex with wasm SIMD); 'webgpu' falls back to 'cpu' (see fallbackReason). */
+  backend?: 'cpu' | 'webgpu' | 'ndarray';
+  /** Which models to load (default both). */
+  settings?: Array<'supervised' | 'unsupervised'>;
+}
+
+/** An imported motion: resampled to 30 fps and retargeted onto the canonical rig inside. */
+export class Motion {
+  readonly frames: number;
+  readonly fps: number;
+  /** Detected rig: 'bandai' | 'cmu31' | 'm21' | 'cc_base' | 'mixamo' | 'generic'. */
+  readonly rig: string;
+  rigReport(): {
+    rig: string;
+    matched: Array<[string, string]>;
+    missing: string[];
+    scale: number;
+    up_axis: string;
+    forward_axis: string;
+    floor: number;
+    base_pose: string;
+  };
+}
+
+/** One style source. With the supervised model, `styleMotion` needs the reference's `label`. */
+export type StyleSource =
+  | { label: string }
+  | { styleMotion: Motion | string; label?: string }
+  | { prior: true }
+  | { mix: { a: StyleSource; b: StyleSource; t: number } };
+
+export type StylizeOptions = StyleSource & {
+  /** Use the model trained without labels (motion- and prior-based only). Default false. */
+  unsupervised?: boolean;
+  /** Number of outputs, 1-64. Default 1. */
+  samples?: number;
+  /** Seed of the random draws; same seed and input, same output bits. Default 0. */
+  seed?: number | bigint;
+  /** Output skeleton: the content's own rig (default) or the canonical 21-joint rig. */
+  rig?: 'content' | 'canonical';
+};
+
+export class StylizedMotion {
+  readonly frames: number;
+  readonly fps: number;
+  /** Joint names and parent indices (-1 for the root), in the order of positions(). */
+  readonly skeleton: { names: string[]; parents: number[] };
+  /** BVH text. */
+  toBvh(): string;
+  /** World joint positions: frames × joints × 3. */
+  positions(): Float32Array;
+}
+
+export class Stylizer {
+  static load(options?: LoadOptions): Promise<Stylizer>;
+  /** The backend in use ('cpu', or 'ndarray'). */
+  readonly backend: string;
+  /** Why the requested backend is not the one in use; null when it is. */
+  readonly fallbackReason: string | null;
+  /** Milliseconds Stylizer.load took (wasm start-up and weights). */
+  readonly loadMs: number;
+  styles(): string[];
+  settings(): Array<'supervised' | 'unsupervised'>;
+  importBvh(text: string): Motion;
+  stylize(content: Motion | string, options: StylizeOptions): Promise<StylizedMotion[]>;
+}
+
+export default Stylizer;

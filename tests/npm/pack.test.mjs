@@ -1,0 +1,34 @@
+// `npm pack` of pkg/ installs into an empty folder, and a 5-line Node ESM script stylizes a BVH.
+import assert from 'node:assert/strict';
+import { execFileSync } from 'node:child_process';
+import { readdirSync, statSync, writeFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { test } from 'node:test';
+import { fixture, pkgDir, read, tempDir } from './helpers.mjs';
+
+const SCRIPT = `import { Stylizer } from 'motion-stylizer';
+import { readFileSync, writeFileSync } from 'node:fs';
+const s = await Stylizer.load();
+const [out] = await s.stylize(readFileSync(process.argv[2], 'utf8'), { label: 'old', seed: 7 });
+writeFileSync(process.argv[3], out.toBvh());
+`;
+
+test('npm pack installs into an empty folder and a 5-line script stylizes a BVH', () => {
+  const packDir = tempDir('ms-pack-');
+  const npm = (args, cwd) => execFileSync('npm', args, { cwd, encoding: 'utf8', stdio: ['ignore', 'pipe', 'pipe'] });
+  const info = JSON.parse(npm(['pack', pkgDir, '--json', '--pack-destination', packDir], packDir))[0];
+  const tarball = join(packDir, info.filename);
+  console.log(`npm pack: ${info.filename}, ${(statSync(tarball).size / 1e6).toFixed(2)} MB packed, ` +
+    `${(info.unpackedSize / 1e6).toFixed(2)} MB unpacked, ${info.entryCount} files`);
+
+  const app = tempDir('ms-app-');
+  assert.deepEqual(readdirSync(app), []);
+  npm(['install', '--no-audit', '--no-fund', '--offline', tarball], app);
+  writeFileSync(join(app, 'stylize.mjs'), SCRIPT);
+  assert.equal(SCRIPT.trim().split('\n').length, 5);
+  const out = join(app, 'out.bvh');
+  execFileSync(process.execPath, ['stylize.mjs', fixture('foreign/m21_walk.bvh'), out], { cwd: app });
+  const text = read(out);
+  assert.ok(text.startsWith('HIERARCHY'));
+  assert.match(text, /Frames:\s+81/);
+});

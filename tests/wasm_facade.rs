@@ -1,0 +1,361 @@
+//! The npm package's wasm facade (`motion_stylizer::wasm`), run in Node by wasm-bindgen's test
+//! runner: `make test-wasm`, or
+//! `cargo test --release --target wasm32-unknown-unknown --no-default-features --features model,wasm --test wasm_facade`.
+//!
+//! Every foreign-rig fixture imports and stylizes in every mode; outputs are deterministic; every
+//! refusal is a JS `Error` with the right `code`; inputs that once could crash the module do not.
+//! (Equality with the native CLI is checked on the built package: `tests/npm/`.)
+#![cfg(all(target_arch = "wasm32", feature = "wasm"))]
+
+use motion_stylizer::wasm::{Content, Engine, Output, StyleSpec};
+use wasm_bindgen::{JsCast, JsValue};
+use wasm_bindgen_test::wasm_bindgen_test;
+
+const MANIFEST: &[u8] = include_bytes!("../assets/weights/manifest.json");
+const NORM: &[u8] = include_bytes!("../assets/weights/norm.json");
+const SUPERVISED: &[u8] = include_bytes!("../assets/weights/supervised.bin");
+const UNSUPERVISED: &[u8] = include_bytes!("../assets/weights/unsupervised.bin");
+
+/// Foreign-rig fixtures and the rig the importer must detect.
+const FOREIGN: &[(&str, &str)] = &[
+    ("cmu31_rest", include_str!("fixtures/foreign/cmu31_rest.bvh")),
+    ("cmu31_xia_neutral_16_000", include_str!("fixtures/foreign/cmu31_xia_neutral_16_000.bvh")),
+    ("iclone100_cmu_002_04", include_str!("fixtures/foreign/iclone100_cmu_002_04.bvh")),
+    ("m21_walk", include_str!("fixtures/foreign/m21_walk.bvh")),
+];
+const RIGS: &[&str] = &["cmu31", "cmu31", "cc_base", "m21"];
+const REFERENCE: &str = include_str!("fixtures/bandai/dataset-2_walk_elderly_001_f120.bvh");
+const SMALL: &str = include_str!("fixtures/small.bvh");
+
+thread_local! {
+    static ENGINE: Engine = Engine::new(MANIFEST, NORM, Some(SUPERVISED.to_vec()), Some(UNSUPERVISED.to_vec()), "cpu")
+        .unwrap_or_else(|e| panic!("shipped weights: {}", message(&e)));
+}
+
+fn prop(e: &JsValue, key: &str) -> JsValue {
+    js_sys::Reflect::get(e, &JsValue::from_str(key)).unwrap_or(JsValue::UNDEFINED)
+}
+
+fn code(e: &JsValue) -> String {
+    assert!(e.is_instance_of::<js_sys::Error>(), "not a JS Error: {e:?}");
+    prop(e, "code").as_string().unwrap_or_else(|| panic!("no code on {}", message(e)))
+}
+
+fn message(e: &JsValue) -> String {
+    prop(e, "message").as_string().unwrap_or_default()
+}
+
+fn err_code<T>(r: Result<T, JsValue>) -> String {
+    match r {
+        Ok(_) => panic!("expected an error"),
+        Err(e) => code(&e),
+    }
+}
+
+fn import(text: &str) -> Content {
+    Content::from_bvh(text).unwrap_or_else(|e| panic!("import: {}", message(&e)))
+}
+
+/// Stylize with `engine`, panicking with the JS error's message.
+fn run(
+    engine: &Engine,
+    content: &Content,
+    style: &StyleSpec,
+    unsupervised: bool,
+    samples: f64,
+    seed: u64,
+    canonical: bool,
+) -> Vec<Output> {
+    engine
+        .stylize(content, style, unsupervised, samples, JsValue::from_f64(seed as f64), canonical)
+        .unwrap_or_else(|e| panic!("stylize: {} ({})", message(&e), code(&e)))
+}
+
+fn check_output(out: &Output, frames: usize) {
+    assert_eq!(out.frames(), frames);
+    assert_eq!(out.fps(), 30.0);
+    let names = out.joint_names();
+    let parents = out.parents();
+    assert_eq!(names.len(), parents.len());
+    assert_eq!(parents[0], -1);
+    assert!(parents.iter().enumerate().skip(1).all(|(i, &p)| p >= 0 && (p as usize) < i));
+    let positions = out.positions();
+    assert_eq!(positions.len(), frames * names.len() * 3);
+    assert!(positions.iter().all(|v| v.is_finite()));
+    // The BVH text imports again.
+    import(&out.to_bvh());
+}
+
+#[wasm_bindgen_test]
+fn every_foreign_fixture_imports_with_its_rig() {
+    for ((name, text), rig) in FOREIGN.iter().zip(RIGS) {
+        let c = Content::from_bvh(text).unwrap_or_else(|e| panic!("{name}: {}", message(&e)));
+        assert_eq!(&c.rig(), rig, "{name}");
+        assert!(c.frames() >= 1, "{name}");
+        assert_eq!(c.fps(), 30.0);
+        assert!(c.rig_report().contains("\"matched\""), "{name}");
+    }
+}
+
+#[wasm_bindgen_test]
+fn every_fixture_stylizes_in_every_mode() {
+    ENGINE.with(|e| {
+        assert_eq!(e.backend(), "flex");
+        assert_eq!(e.settings(), ["supervised", "unsupervised"]);
+        assert!(e.styles().iter().any(|s| s == "old"));
+        let reference = import(REFERENCE);
+        for (name, text) in FOREIGN {
+            let content = import(text);
+            let n = content.frames();
+            let joints = text.matches("JOINT").count() + 1;
+            let modes: Vec<(&str, StyleSpec, bool)> = vec![
+                ("label", StyleSpec::label("old".into()), false),
+                ("motion+label", StyleSpec::motion(&reference, Some("old".into())), false),
+                ("motion", StyleSpec::motion(&reference, None), true),
+                ("prior supervised", StyleSpec::prior(), false),
+                ("prior", StyleSpec::prior(), true),
+                (
+                    "mix",
+                    StyleSpec::mix(
+                        &StyleSpec::label("proud".into()),
+                        &StyleSpec::motion(&reference, Some("old".into())),
+                        0.3,
+                    )
+                    .unwrap(),
+                    false,
+                ),
+            ];
+            for (mode, style, unsupervised) in &modes {
+                for canonical in [false, true] {
+                    let outs = run(e, &content, style, *unsupervised, 2.0, 7, canonical);
+                    assert_eq!(outs.len(), 2, "{name} {mode}");
+                    for out in &outs {
+                        check_output(out, n);
+                        let expected = if canonical { 21 } else { joints };
+                        assert_eq!(out.joint_names().len(), expected, "{name} {mode} canonical={canonical}");
+                    }
+                }
+            }
+        }
+    });
+}
+
+#[wasm_bindgen_test]
+fn same_input_and_seed_give_the_same_bits() {
+    ENGINE.with(|e| {
+        let content = import(FOREIGN[3].1);
+        let style = StyleSpec::label("tired".into());
+        let texts =
+            |seed| run(e, &content, &style, false, 3.0, seed, false).iter().map(Output::to_bvh).collect::<Vec<_>>();
+        let first = texts(11);
+        assert_eq!(first, texts(11));
+        assert_eq!(first, texts(11));
+        assert_ne!(first, texts(12));
+        assert_ne!(first[0], first[1], "samples differ");
+        // A BigInt seed is the same seed as the number.
+        let big = e.stylize(&content, &style, false, 3.0, JsValue::from(11u64), false).unwrap();
+        assert_eq!(first, big.iter().map(Output::to_bvh).collect::<Vec<_>>());
+        // A mix at t = 0 is its first source.
+        let reference = import(REFERENCE);
+        let a = StyleSpec::motion(&reference, None);
+        let mix = StyleSpec::mix(&a, &StyleSpec::prior(), 0.0).unwrap();
+        let plain = run(e, &content, &a, true, 1.0, 3, true)[0].to_bvh();
+        assert_eq!(plain, run(e, &content, &mix, true, 1.0, 3, true)[0].to_bvh());
+    });
+}
+
+#[wasm_bindgen_test]
+fn malformed_bvh_gives_bvh_parse_with_line_and_kind() {
+    // (file, reader error kind, line), from tests/bvh_malformed.rs.
+    const CASES: &[(&str, &str, usize)] = &[
+        (include_str!("malformed/empty.bvh"), "UnexpectedEof", 1),
+        (include_str!("malformed/duplicate_joint.bvh"), "DuplicateJoint", 6),
+        (include_str!("malformed/comma_decimal.bvh"), "NotANumber", 20),
+        (include_str!("malformed/crlf_wrong_value_count.bvh"), "WrongValueCount", 20),
+        (include_str!("malformed/frame_time_nan.bvh"), "NonFinite", 18),
+        (include_str!("malformed/frames_absurd.bvh"), "LimitExceeded", 17),
+        (include_str!("malformed/frames_overflow_u64.bvh"), "LimitExceeded", 17),
+        (include_str!("malformed/channels_over_limit.bvh"), "LimitExceeded", 5),
+    ];
+    for &(text, kind, line) in CASES {
+        let e = match Content::from_bvh(text) {
+            Ok(_) => panic!("parsed: {text:.60}"),
+            Err(e) => e,
+        };
+        assert_eq!(code(&e), "BVH_PARSE", "{}", message(&e));
+        let got_line = prop(&e, "line").as_f64().unwrap() as usize;
+        let got_kind = prop(&e, "kind").as_string().unwrap();
+        assert!(message(&e).starts_with(&format!("line {got_line}: ")), "{}", message(&e));
+        assert_eq!((got_kind.as_str(), got_line), (kind, line), "{}", message(&e));
+    }
+}
+
+#[wasm_bindgen_test]
+fn rigs_that_cannot_be_used_give_rig_codes() {
+    assert_eq!(err_code(Content::from_bvh(SMALL)), "RIG_UNMATCHED");
+    // The m21 walk with every bone of zero length.
+    let flat: String = FOREIGN[3]
+        .1
+        .lines()
+        .map(|l| if l.trim_start().starts_with("OFFSET") { "OFFSET 0 0 0" } else { l })
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert_eq!(err_code(Content::from_bvh(&flat)), "RIG_DEGENERATE");
+}
+
+#[wasm_bindgen_test]
+fn bad_requests_give_their_codes() {
+    ENGINE.with(|e| {
+        let content = import(FOREIGN[3].1);
+        let reference = import(REFERENCE);
+        let label = StyleSpec::label("old".into());
+        let call = |style: &StyleSpec, unsupervised: bool, samples: f64, seed: JsValue| {
+            err_code(e.stylize(&content, style, unsupervised, samples, seed, false))
+        };
+        let zero = JsValue::from_f64(0.0);
+        assert_eq!(call(&StyleSpec::label("grumpy".into()), false, 1.0, zero.clone()), "UNKNOWN_LABEL");
+        assert_eq!(
+            call(&StyleSpec::motion(&reference, Some("grumpy".into())), false, 1.0, zero.clone()),
+            "UNKNOWN_LABEL"
+        );
+        for samples in [0.0, 65.0, 2.5, -1.0, f64::NAN, f64::INFINITY, 1e300] {
+            assert_eq!(call(&label, false, samples, zero.clone()), "BAD_REQUEST", "samples {samples}");
+        }
+        for seed in [-1.0, 1.5, f64::NAN, 2f64.powi(60)] {
+            assert_eq!(call(&label, false, 1.0, JsValue::from_f64(seed)), "BAD_REQUEST", "seed {seed}");
+        }
+        assert_eq!(call(&label, false, 1.0, JsValue::from_str("7")), "BAD_REQUEST");
+        assert_eq!(call(&label, false, 1.0, JsValue::bigint_from_str("-1")), "BAD_REQUEST");
+        assert_eq!(call(&label, false, 1.0, JsValue::bigint_from_str("18446744073709551616")), "BAD_REQUEST");
+        assert_eq!(call(&label, true, 1.0, zero.clone()), "BAD_REQUEST", "label with the unsupervised model");
+        assert_eq!(call(&StyleSpec::motion(&reference, None), false, 1.0, zero.clone()), "BAD_REQUEST");
+        assert_eq!(call(&StyleSpec::motion(&reference, Some("old".into())), true, 1.0, zero.clone()), "BAD_REQUEST");
+        for t in [-0.1, 1.5, f64::NAN] {
+            let mix = StyleSpec::mix(&label, &StyleSpec::prior(), t).unwrap();
+            assert_eq!(call(&mix, false, 1.0, zero.clone()), "BAD_REQUEST", "t {t}");
+        }
+        // Mixes nest up to 8 deep and no deeper.
+        let mut spec = StyleSpec::prior();
+        for _ in 0..8 {
+            spec = StyleSpec::mix(&spec, &StyleSpec::prior(), 0.5).unwrap();
+        }
+        assert_eq!(run(e, &content, &spec, true, 1.0, 0, true).len(), 1);
+        assert_eq!(err_code(StyleSpec::mix(&spec, &StyleSpec::prior(), 0.5)), "BAD_REQUEST");
+    });
+}
+
+#[wasm_bindgen_test]
+fn weights_that_cannot_be_used_give_bad_weights() {
+    let load = |m: &[u8], n: &[u8], s: Option<&[u8]>, u: Option<&[u8]>| {
+        err_code(Engine::new(m, n, s.map(<[u8]>::to_vec), u.map(<[u8]>::to_vec), "cpu"))
+    };
+    assert_eq!(load(b"{", NORM, Some(SUPERVISED), None), "BAD_WEIGHTS");
+    assert_eq!(load(MANIFEST, b"[]", Some(SUPERVISED), None), "BAD_WEIGHTS");
+    assert_eq!(load(MANIFEST, NORM, None, None), "BAD_WEIGHTS");
+    assert_eq!(load(MANIFEST, NORM, Some(UNSUPERVISED), None), "BAD_WEIGHTS", "swapped bundles");
+    assert_eq!(load(MANIFEST, NORM, Some(&SUPERVISED[..SUPERVISED.len() / 2]), None), "BAD_WEIGHTS");
+    assert_eq!(load(MANIFEST, NORM, Some(b"garbage"), None), "BAD_WEIGHTS");
+    assert_eq!(load(MANIFEST, NORM, Some(SUPERVISED), Some(b"")), "BAD_WEIGHTS");
+    assert_eq!(err_code(Engine::new(MANIFEST, NORM, Some(SUPERVISED.to_vec()), None, "webgpu")), "BACKEND_UNAVAILABLE");
+    // One model only: the other setting is unavailable.
+    let only = Engine::new(MANIFEST, NORM, Some(SUPERVISED.to_vec()), None, "cpu").unwrap();
+    assert_eq!(only.settings(), ["supervised"]);
+    let content = import(FOREIGN[3].1);
+    let r = only.stylize(&content, &StyleSpec::prior(), true, 1.0, JsValue::UNDEFINED, false);
+    assert_eq!(err_code(r), "SETTING_UNAVAILABLE");
+}
+
+/// The m21 walk with its frame rows' numbers (or its OFFSETs) scaled by `k`, or other header
+/// edits: inputs at the edges of the arithmetic.
+fn m21_edited(edit: impl Fn(&str, bool) -> String) -> String {
+    let (head, motion) = FOREIGN[3].1.split_once("MOTION").unwrap();
+    format!("{}MOTION{}", edit(head, true), edit(motion, false))
+}
+
+/// Every number of `text` times `k`, on frame rows (`offsets_only = false`) or OFFSET lines.
+fn scale_numbers(text: &str, k: f64, offsets_only: bool) -> String {
+    text.lines()
+        .map(|l| {
+            if l.contains("Frame") || (offsets_only && !l.trim_start().starts_with("OFFSET")) {
+                return l.to_string();
+            }
+            l.split_whitespace()
+                .map(|w| w.parse::<f64>().map_or_else(|_| w.to_string(), |v| format!("{:e}", v * k)))
+                .collect::<Vec<_>>()
+                .join(" ")
+        })
+        .map(|l| l + "\n")
+        .collect()
+}
+
+/// Inputs that could crash the module (a wasm trap leaves it unusable): extreme scales, one frame,
+/// absurd frame times, a tiny file that resamples to 990,001 frames (~0.9 GB while importing).
+/// Each gives a result or a coded error, and the module keeps working afterwards.
+#[wasm_bindgen_test]
+fn hostile_inputs_give_results_or_codes_never_a_trap() {
+    ENGINE.with(|e| {
+        let frame_rows = |text: &str| {
+            text.lines().filter(|l| l.trim_start().starts_with(|c: char| c == '-' || c.is_ascii_digit())).count()
+        };
+        let with_frame_time = |ft: &str, rows: Option<usize>| {
+            m21_edited(|part, head| {
+                if head {
+                    return part.to_string();
+                }
+                let lines: Vec<&str> = part.lines().filter(|l| !l.trim().is_empty()).collect();
+                let data: Vec<&str> = lines
+                    .iter()
+                    .copied()
+                    .filter(|l| !l.starts_with("Frame"))
+                    .take(rows.unwrap_or(usize::MAX))
+                    .collect();
+                format!("\nFrames: {}\nFrame Time: {ft}\n{}\n", data.len(), data.join("\n"))
+            })
+        };
+        let cases: Vec<(&str, String, Option<&str>)> = vec![
+            ("motion ×1e6", m21_edited(|p, h| if h { p.to_string() } else { scale_numbers(p, 1e6, false) }), None),
+            (
+                "motion ×1e300",
+                m21_edited(|p, h| if h { p.to_string() } else { scale_numbers(p, 1e300, false) }),
+                Some("RIG_DEGENERATE"),
+            ),
+            ("motion ×0", m21_edited(|p, h| if h { p.to_string() } else { scale_numbers(p, 0.0, false) }), None),
+            ("offsets ×1e30", m21_edited(|p, h| if h { scale_numbers(p, 1e30, true) } else { p.to_string() }), None),
+            (
+                "offsets ×1e-300",
+                m21_edited(|p, h| if h { scale_numbers(p, 1e-300, true) } else { p.to_string() }),
+                Some("RIG_DEGENERATE"),
+            ),
+            ("one frame", with_frame_time("0.0166667", Some(1)), None),
+            ("frame time 1e-300", with_frame_time("1e-300", None), None),
+            ("frame time 1e300", with_frame_time("1e300", None), Some("TOO_LONG")),
+            ("9,301 frames at 30 fps", with_frame_time("310", Some(2)), Some("TOO_LONG")),
+            ("990,001 frames at 30 fps", with_frame_time("33000", Some(2)), Some("TOO_LONG")),
+        ];
+        for (name, text, expected) in &cases {
+            assert!(frame_rows(text) >= 1, "{name}");
+            let outcome = Content::from_bvh(text).and_then(|content| {
+                let reference = Content::from_bvh(text)?;
+                let styles = [
+                    (StyleSpec::label("old".into()), false),
+                    (StyleSpec::motion(&reference, None), true),
+                    (StyleSpec::prior(), false),
+                ];
+                for (style, unsupervised) in &styles {
+                    for out in e.stylize(&content, style, *unsupervised, 2.0, JsValue::from_f64(1.0), false)? {
+                        check_output(&out, content.frames());
+                    }
+                }
+                Ok(())
+            });
+            match (outcome, expected) {
+                (Ok(()), None) => {}
+                (Err(err), Some(code_)) => assert_eq!(&code(&err), code_, "{name}: {}", message(&err)),
+                (Ok(()), Some(code_)) => panic!("{name}: expected {code_}"),
+                (Err(err), None) => panic!("{name}: {} ({})", message(&err), code(&err)),
+            }
+        }
+        // Still working.
+        assert_eq!(run(e, &import(FOREIGN[3].1), &StyleSpec::label("old".into()), false, 1.0, 0, false).len(), 1);
+    });
+}
