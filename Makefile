@@ -46,10 +46,10 @@ pkg:
 setup-wasm:
 	scripts/setup-wasm.sh
 
-## test-wasm: the wasm facade's tests in Node, the ndarray backend's wasm build, the package vs the native CLI, npm pack
+## test-wasm: the wasm facade's tests in Node (flex, and the ndarray backend's build), the package vs the native CLI, npm pack
 test-wasm: setup-wasm pkg
 	$(CARGO) test --release --target wasm32-unknown-unknown --no-default-features --features model,wasm --test wasm_facade
-	$(CARGO) check --release --lib --target wasm32-unknown-unknown --no-default-features --features model,wasm,ndarray
+	$(CARGO) test --release --target wasm32-unknown-unknown --no-default-features --features model,wasm,ndarray --test wasm_facade -- ndarray
 	$(CARGO) build --release --bin motion-stylizer
 	node --test tests/npm/
 

@@ -18,9 +18,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let content = skeleton::import_bvh(&std::fs::read_to_string(&path)?)?;
     let old = weights.style("old")?;
 
-    let mut time = |samples: usize| -> Result<f64, Box<dyn std::error::Error>> {
+    let time = |samples: usize| -> Result<f64, Box<dyn std::error::Error>> {
         let request = Request::new(StyleSource::Label(old)).with_samples(samples).with_seed(7);
-        let mut once = || -> Result<f64, Box<dyn std::error::Error>> {
+        let once = || -> Result<f64, Box<dyn std::error::Error>> {
             let t = Instant::now();
             let texts: Vec<String> = stylize::stylize(&weights, &content.motion, &request)?
                 .iter()

@@ -169,8 +169,11 @@ export class Stylizer {
     let engineBackend = backend;
     let fallbackReason = null;
     if (backend === 'webgpu') {
+      // The package has no Burn wgpu build yet: every WebGPU request runs on the CPU, and says why.
       engineBackend = 'cpu';
-      fallbackReason = 'this build has no WebGPU backend';
+      fallbackReason = globalThis.navigator?.gpu
+        ? 'this build has no WebGPU backend'
+        : 'this build has no WebGPU backend (and this environment has no navigator.gpu)';
     }
     await initEngine();
     const files =

@@ -359,3 +359,23 @@ fn hostile_inputs_give_results_or_codes_never_a_trap() {
         assert_eq!(run(e, &import(FOREIGN[3].1), &StyleSpec::label("old".into()), false, 1.0, 0, false).len(), 1);
     });
 }
+
+/// Regression: the ndarray backend used to panic (a wasm trap: `Unsupported dtype F16` in
+/// burn-ndarray) when loading the f16 weights; the bundles are now read on flex and moved.
+/// Runs when built with the ndarray backend (`make test-wasm` does: `--features model,wasm,ndarray`).
+#[cfg(feature = "ndarray")]
+#[wasm_bindgen_test]
+fn ndarray_backend_loads_the_f16_weights_and_stylizes() {
+    let nd = Engine::new(MANIFEST, NORM, Some(SUPERVISED.to_vec()), None, "ndarray")
+        .unwrap_or_else(|e| panic!("{}", message(&e)));
+    assert_eq!(nd.backend(), "ndarray");
+    let content = import(FOREIGN[3].1);
+    let style = StyleSpec::label("old".into());
+    let out = run(&nd, &content, &style, false, 1.0, 7, false);
+    check_output(&out[0], content.frames());
+    // The same motion as on flex, up to float rounding.
+    let flex = ENGINE.with(|e| run(e, &content, &style, false, 1.0, 7, false)[0].positions());
+    let worst = out[0].positions().iter().zip(&flex).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
+    let size = flex.iter().fold(0.0f32, |m, v| m.max(v.abs()));
+    assert!(worst <= 1e-4 * size, "ndarray vs flex: {worst} (motion size {size})");
+}

@@ -7,7 +7,7 @@
 import { execFileSync } from 'node:child_process';
 import { mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
-import { join } from 'node:path';
+import { join, resolve } from 'node:path';
 import { pathToFileURL } from 'node:url';
 import { clip160 } from './clip.mjs';
 
@@ -37,7 +37,8 @@ async function time(samples) {
 const wasm = { frames: content.frames, load_ms: stylizer.loadMs, one_ms: await time(1), ten_ms: await time(10) };
 
 // native, one thread (as the wasm) and all threads
-const nativeCmd = (process.env.MOTION_STYLIZER_NATIVE_BENCH ?? join(root, 'target/release/examples/stylize_bench')).split(' ');
+const targetDir = resolve(root, process.env.CARGO_TARGET_DIR ?? 'target');
+const nativeCmd = (process.env.MOTION_STYLIZER_NATIVE_BENCH ?? join(targetDir, 'release/examples/stylize_bench')).split(' ');
 const native = (threads) =>
   JSON.parse(
     execFileSync(nativeCmd[0], [...nativeCmd.slice(1), contentPath, String(repeats)], {

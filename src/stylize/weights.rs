@@ -110,8 +110,10 @@ impl Weights {
                 other => other,
             };
             check_bundle_header(bytes, setting, manifest.styles.len()).map_err(context)?;
-            let (config, model) = load_bundle(bytes, device).map_err(|e| context(e.into()))?;
-            Ok(Some(Stylizer::new(config, model)))
+            // The bundle's f16 tensors are read on flex (which casts them to f32) and the f32
+            // networks then moved to `device`: burn-ndarray has no f16 tensors and panics on them.
+            let (config, model) = load_bundle(bytes, &Device::flex()).map_err(|e| context(e.into()))?;
+            Ok(Some(Stylizer::new(config, model.to_device(device))))
         };
         Ok(Weights {
             supervised: load(supervised, Setting::Supervised)?,
