@@ -6,6 +6,8 @@
 
 pub mod bvh;
 pub mod dataset;
+#[cfg(all(feature = "model", not(target_arch = "wasm32")))]
+pub mod eval;
 pub mod features;
 #[cfg(feature = "model")]
 pub mod model;

@@ -102,3 +102,21 @@ fn partner_permutation_pairs_rows() {
     assert_eq!(partner_permutation(3), vec![1, 2, 0]);
     assert_eq!(partner_permutation(1), vec![0]);
 }
+
+#[test]
+fn style_classifier_learns_one_batch_and_checks_its_labels() {
+    use motion_stylizer::model::train::ClassifierTrainer;
+    let dev = Device::flex();
+    let mut trainer = ClassifierTrainer::new(cfg(true), fast_train(), &dev, 1);
+    let x = features(&mut NoiseRng::new(5), 6, T);
+    let labels = [0, 1, 2, 0, 1, 2];
+    let first = trainer.step(x.clone(), &labels).unwrap();
+    let mut last = first.clone();
+    for _ in 0..20 {
+        last = trainer.step(x.clone(), &labels).unwrap();
+    }
+    assert!(last.loss < 0.5 * first.loss, "{first:?} -> {last:?}");
+    assert_eq!(last.accuracy, 1.0, "{last:?}");
+    assert!(matches!(trainer.step(x.clone(), &[0, 1]), Err(ModelError::BatchSize { .. })));
+    assert!(matches!(trainer.step(x, &[0, 1, 2, 3, 0, 1]), Err(ModelError::Label(_))));
+}

@@ -1,5 +1,9 @@
 //! Command-line arguments and dispatch; one file per subcommand.
 
+#[cfg(feature = "model")]
+mod eval;
+#[cfg(feature = "model")]
+mod export;
 mod inspect;
 mod retarget;
 mod split;
@@ -9,8 +13,6 @@ mod styles;
 mod stylize;
 #[cfg(feature = "model")]
 mod train;
-#[cfg(feature = "model")]
-mod export;
 
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
@@ -73,6 +75,10 @@ enum Command {
     /// Write the shipped weights folder (manifest, norm.json, f16 bundles) from finished runs.
     #[cfg(feature = "model")]
     Export(export::ExportArgs),
+    /// Evaluate the shipped weights: style accuracy, style FID, geodesic distance, diversity and
+    /// foot skating per setting, with 95 % confidence intervals over repeats.
+    #[cfg(feature = "model")]
+    Eval(eval::EvalArgs),
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
@@ -88,6 +94,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Train(args) => train::run(args),
         #[cfg(feature = "model")]
         Command::Export(args) => export::run(&args),
+        #[cfg(feature = "model")]
+        Command::Eval(args) => eval::run(&args),
     }
 }
 

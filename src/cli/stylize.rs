@@ -32,6 +32,10 @@ pub struct StylizeArgs {
     /// Seed of the random style draws (same seed, same output bytes).
     #[arg(long, default_value_t = 0, value_name = "S")]
     seed: u64,
+    /// Scale of the style codes drawn from the prior (label- and prior-based), 0-4; 1 is the
+    /// paper's N(0, I). Lower: closer to the label's typical style, less variety.
+    #[arg(long, default_value_t = stylize::DEFAULT_TEMPERATURE, value_name = "T")]
+    temperature: f32,
     /// Write the output on the canonical 21-joint rig instead of the content's own rig.
     #[arg(long)]
     canonical: bool,
@@ -91,7 +95,7 @@ pub fn run(args: &StylizeArgs) -> anyhow::Result<()> {
         (None, Some(label)) => StyleSource::Label(label),
         (None, None) => StyleSource::Prior,
     };
-    let request = Request { source, setting, samples: args.samples, seed: args.seed };
+    let request = Request { source, setting, samples: args.samples, seed: args.seed, temperature: args.temperature };
     let motions = stylize::stylize(&weights, &content.motion, &request)?;
 
     let texts: Vec<String> = motions

@@ -26,6 +26,8 @@ enum StageArgs {
         #[arg(long)]
         unsupervised: bool,
     },
+    /// The evaluation's style classifier, on the training takes only (`eval` uses it).
+    Classifier(CommonArgs),
 }
 
 #[derive(Args, Debug)]
@@ -79,6 +81,7 @@ struct CommonArgs {
 pub fn run(args: TrainArgs) -> anyhow::Result<()> {
     let (common, stage) = match args.stage {
         StageArgs::Ae(common) => (common, Stage::Ae),
+        StageArgs::Classifier(common) => (common, Stage::Classifier),
         StageArgs::Stylizer { common, ae, unsupervised } => (common, Stage::Stylizer { ae, supervised: !unsupervised }),
     };
     if let Some(w) = common.window {

@@ -8,9 +8,11 @@
 use burn::module::{Module, ModuleVisitor, Param};
 use burn::optim::{AdamConfig, GradientsParams, ModuleOptimizer};
 use burn::prelude::*;
+use burn::tensor::activation::log_softmax;
 
 use super::ModelError;
 use super::autoencoder::{MotionAutoencoder, ae_input};
+use super::classifier::StyleClassifier;
 use super::config::{FEATURE_DIM, ModelConfig, TrainConfig};
 use super::init::seeded_xavier;
 use super::layers::one_hot;
@@ -338,5 +340,72 @@ impl StylizerTrainer {
             encoders_grad_norm,
             generator_grad_norm,
         })
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+
+/// Losses of one classifier step (before the update).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ClassifierStepReport {
+    /// Cross-entropy.
+    pub loss: f32,
+    /// Fraction of the batch classified correctly.
+    pub accuracy: f32,
+    pub grad_norm: f32,
+}
+
+/// The style classifier of the evaluation (trained on the training takes only), with the same
+/// Adam and gradient clipping as the other stages.
+pub struct ClassifierTrainer {
+    pub config: ModelConfig,
+    pub train: TrainConfig,
+    /// On the autodiff device.
+    pub classifier: StyleClassifier,
+    optim: ModuleOptimizer,
+    device: Device,
+}
+
+impl ClassifierTrainer {
+    /// A fresh classifier on `device.autodiff()`, weights from `seed`.
+    pub fn new(config: ModelConfig, train: TrainConfig, device: &Device, seed: u64) -> Self {
+        let device = device.clone().autodiff();
+        device.seed(seed);
+        let classifier = seeded_xavier(StyleClassifier::new(&config, &device), seed);
+        Self { config, train, classifier, optim: adam(), device }
+    }
+
+    /// The training device (autodiff).
+    pub fn device(&self) -> &Device {
+        &self.device
+    }
+
+    /// One Adam step on normalised features `[B, 260, T]` and one label per row.
+    pub fn step(&mut self, features: Tensor<3>, labels: &[usize]) -> Result<ClassifierStepReport, ModelError> {
+        check_features("pose features", &features)?;
+        let [b, _, _] = features.dims();
+        if labels.len() != b {
+            return Err(ModelError::BatchSize { what: "style labels", expected: b, got: labels.len() });
+        }
+        if let Some(&bad) = labels.iter().find(|&&l| l >= self.config.num_styles) {
+            return Err(ModelError::Label(format!("label {bad} out of range {}", self.config.num_styles)));
+        }
+        let x = ae_input(features.to_device(&self.device).autodiff());
+        let logits = self.classifier.forward(x).logits;
+        let target = one_hot(labels, self.config.num_styles, &self.device);
+        let loss = -(log_softmax(logits.clone(), 1) * target).sum_dim(1).mean();
+
+        let truth: Tensor<2, Int> = Tensor::from_data(
+            TensorData::new(labels.iter().map(|&l| l as i64).collect::<Vec<_>>(), [b, 1]),
+            &self.device,
+        );
+        let accuracy = logits.detach().argmax(1).equal(truth).float().mean();
+
+        let mut grads = loss.clone().backward();
+        let mut g = GradientsParams::from_module(&mut grads, &self.classifier);
+        let grad_norm = clip_grad_norm(&self.classifier, &mut g, self.train.grad_clip_norm);
+        let v = read_scalars(vec![loss, accuracy]);
+        self.classifier = self.optim.step(self.train.lr, self.classifier.clone(), g);
+        Ok(ClassifierStepReport { loss: v[0], accuracy: v[1], grad_norm })
     }
 }

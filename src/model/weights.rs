@@ -15,9 +15,11 @@ use burn::tensor::{Bytes, FloatDType};
 
 use super::ModelError;
 use super::config::ModelConfig;
+use super::classifier::StyleClassifier;
 use super::stylizer::MotionModel;
 
 const BUNDLE_MAGIC: &[u8; 8] = b"MSTYLZ01";
+const CLASSIFIER_MAGIC: &[u8; 8] = b"MSTYCL01";
 
 struct CastFloats(FloatDType);
 
@@ -50,25 +52,48 @@ pub fn from_f16_bytes<M: Module>(template: M, bytes: &[u8]) -> Result<M, ModelEr
 
 /// Config + all inference networks in one byte buffer (f16 weights).
 pub fn save_bundle(config: &ModelConfig, model: MotionModel) -> Result<Vec<u8>, ModelError> {
+    save_with(BUNDLE_MAGIC, config, model)
+}
+
+/// Reads a [`save_bundle`] buffer onto `device` (plain, for inference).
+pub fn load_bundle(bytes: &[u8], device: &Device) -> Result<(ModelConfig, MotionModel), ModelError> {
+    let (config, weights) = split_bundle(BUNDLE_MAGIC, "a motion-stylizer weights bundle", bytes)?;
+    let model = from_f16_bytes(MotionModel::new(&config, device), weights)?;
+    Ok((config, model))
+}
+
+/// Config + the evaluation's style classifier in one byte buffer (f16 weights), the layout of
+/// [`save_bundle`] under the magic `b"MSTYCL01"`.
+pub fn save_classifier(config: &ModelConfig, classifier: StyleClassifier) -> Result<Vec<u8>, ModelError> {
+    save_with(CLASSIFIER_MAGIC, config, classifier)
+}
+
+/// Reads a [`save_classifier`] buffer onto `device`.
+pub fn load_classifier(bytes: &[u8], device: &Device) -> Result<(ModelConfig, StyleClassifier), ModelError> {
+    let (config, weights) = split_bundle(CLASSIFIER_MAGIC, "a style classifier bundle", bytes)?;
+    let classifier = from_f16_bytes(StyleClassifier::new(&config, device), weights)?;
+    Ok((config, classifier))
+}
+
+fn save_with<M: Module>(magic: &[u8; 8], config: &ModelConfig, module: M) -> Result<Vec<u8>, ModelError> {
     let json = serde_json::to_vec(config).map_err(weights_err)?;
-    let weights = to_f16_bytes(model)?;
+    let weights = to_f16_bytes(module)?;
     let mut out = Vec::with_capacity(12 + json.len() + weights.len());
-    out.extend_from_slice(BUNDLE_MAGIC);
+    out.extend_from_slice(magic);
     out.extend_from_slice(&(json.len() as u32).to_le_bytes());
     out.extend_from_slice(&json);
     out.extend_from_slice(&weights);
     Ok(out)
 }
 
-/// Reads a [`save_bundle`] buffer onto `device` (plain, for inference).
-pub fn load_bundle(bytes: &[u8], device: &Device) -> Result<(ModelConfig, MotionModel), ModelError> {
-    let header = BUNDLE_MAGIC.len() + 4;
-    if bytes.len() < header || &bytes[..8] != BUNDLE_MAGIC {
-        return Err(ModelError::Weights("not a motion-stylizer weights bundle".into()));
+/// The config and the weight bytes of a bundle with `magic`.
+fn split_bundle<'a>(magic: &[u8; 8], what: &str, bytes: &'a [u8]) -> Result<(ModelConfig, &'a [u8]), ModelError> {
+    let header = magic.len() + 4;
+    if bytes.len() < header || &bytes[..8] != magic {
+        return Err(ModelError::Weights(format!("not {what}")));
     }
     let len = u32::from_le_bytes(bytes[8..12].try_into().expect("4 bytes")) as usize;
-    let json = bytes.get(header..header + len).ok_or_else(|| ModelError::Weights("truncated bundle".into()))?;
+    let json = bytes.get(header..header.saturating_add(len)).ok_or_else(|| ModelError::Weights("truncated bundle".into()))?;
     let config: ModelConfig = serde_json::from_slice(json).map_err(weights_err)?;
-    let model = from_f16_bytes(MotionModel::new(&config, device), &bytes[header + len..])?;
-    Ok((config, model))
+    Ok((config, &bytes[header + len..]))
 }

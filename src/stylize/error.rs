@@ -42,6 +42,9 @@ pub enum StylizeError {
     /// A style mix weight that is not a finite number in [0, 1].
     #[error("style mix weight must be in [0, 1], got {t}")]
     MixWeight { t: f32 },
+    /// A prior temperature that is not a finite number in [0, max].
+    #[error("temperature must be between 0 and {max}, got {got}")]
+    Temperature { got: f32, max: f32 },
     /// Style mixes nested deeper than the limit.
     #[error("style mixes are nested deeper than {max}")]
     MixTooDeep { max: usize },
@@ -65,7 +68,7 @@ pub enum StylizeError {
 impl StylizeError {
     /// A stable, machine-readable name of the failure class (the npm package's `error.code`):
     /// `UNKNOWN_LABEL`, `SETTING_UNAVAILABLE`, `BAD_REQUEST` (a request the model cannot serve:
-    /// samples, mix weight or depth, a label where none fits or none where one is needed),
+    /// samples, temperature, mix weight or depth, a label where none fits or none where one is needed),
     /// `TOO_LONG`, `BAD_WEIGHTS`, `MODEL_OUTPUT`, `INTERNAL`, or the import's code
     /// ([`ImportError::code`]).
     pub fn code(&self) -> &'static str {
@@ -78,7 +81,8 @@ impl StylizeError {
             | LabelWithUnsupervised
             | Samples { .. }
             | MixWeight { .. }
-            | MixTooDeep { .. } => "BAD_REQUEST",
+            | MixTooDeep { .. }
+            | Temperature { .. } => "BAD_REQUEST",
             TooLong { .. } => "TOO_LONG",
             BadWeights(_) | Read { .. } => "BAD_WEIGHTS",
             Import(e) => e.code(),

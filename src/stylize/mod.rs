@@ -31,14 +31,19 @@
 //!   it), and without one it is an error ([`StylizeError::MotionNeedsLabel`]); prior-based draws a
 //!   label per sample uniformly from the seed ("any style"). The unsupervised model refuses labels
 //!   ([`StylizeError::LabelNeedsSupervised`], [`StylizeError::LabelWithUnsupervised`]).
+//! - **Temperature.** Prior draws (label- and prior-based) are scaled by
+//!   [`Request::temperature`] (default [`DEFAULT_TEMPERATURE`], measured: the paper's full-scale
+//!   `N(0, I)` draws miss the label far more often with our weights).
 //! - **Mix.** [`StyleSource::Mix`] lerps two sources' style codes (and one-hot labels).
 //! - **Root.** Angular velocity from the content, ground velocity from the global motion
 //!   regressor on the generated motion, height from the decoder (paper §3.3); the output starts
-//!   where the content started, facing the same way.
+//!   where the content started, facing the same way; then planted feet are kept from sliding
+//!   ([`feet`]: the root's ground path is corrected by the decoder's own foot contacts).
 //! - **Randomness.** Everything is drawn from `seed` on the Rust side (ChaCha8), so the same
 //!   request gives the same bits natively and in wasm.
 
 pub mod error;
+pub mod feet;
 pub mod manifest;
 pub mod pipeline;
 pub mod source;
@@ -47,5 +52,5 @@ pub mod weights;
 pub use error::StylizeError;
 pub use manifest::{Manifest, ModelEntry, StageRecord};
 pub use pipeline::{MAX_FRAMES, pad_features, padded_frames, style_code_of, stylize};
-pub use source::{MAX_MIX_DEPTH, MAX_SAMPLES, Request, StyleSource};
+pub use source::{DEFAULT_TEMPERATURE, MAX_MIX_DEPTH, MAX_SAMPLES, MAX_TEMPERATURE, Request, StyleSource};
 pub use weights::{Setting, Weights};

@@ -16,7 +16,8 @@ use rand_chacha::ChaCha8Rng;
 use rand_chacha::rand_core::{RngCore, SeedableRng};
 
 use super::StylizeError;
-use super::source::{MAX_MIX_DEPTH, MAX_SAMPLES, Request, StyleSource};
+use super::feet;
+use super::source::{MAX_MIX_DEPTH, MAX_SAMPLES, MAX_TEMPERATURE, Request, StyleSource};
 use super::weights::{Setting, Weights};
 use crate::Motion;
 use crate::dataset::Style;
@@ -167,6 +168,8 @@ struct Resolver<'w> {
     weights: &'w Weights,
     stylizer: &'w Stylizer,
     samples: usize,
+    /// Scale of the prior draws ([`Request::temperature`]).
+    temperature: f32,
     draws: Draws,
 }
 
@@ -198,11 +201,11 @@ impl Resolver<'_> {
             }
             StyleSource::Label(style) => {
                 let l = label_index(*style, self.stylizer)?;
-                let code = self.draws.noise.normal_tensor(n, d, &device);
+                let code = self.draws.noise.normal_tensor(n, d, &device) * self.temperature;
                 Ok(Codes { code, label: Some(self.one_hot_rows(&vec![l; n])) })
             }
             StyleSource::Prior => {
-                let code = self.draws.noise.normal_tensor(n, d, &device);
+                let code = self.draws.noise.normal_tensor(n, d, &device) * self.temperature;
                 let label = supervised.then(|| {
                     let count = self.stylizer.config.num_styles;
                     let labels: Vec<usize> = (0..n).map(|_| self.draws.label(count)).collect();
@@ -250,7 +253,11 @@ pub fn stylize(weights: &Weights, content: &Motion, request: &Request<'_>) -> Re
     let angular = prepared.tensor.narrow(1, 0, 1);
 
     let n = request.samples;
-    let mut resolver = Resolver { weights, stylizer, samples: n, draws: Draws::new(request.seed) };
+    if !(request.temperature.is_finite() && (0.0..=MAX_TEMPERATURE).contains(&request.temperature)) {
+        return Err(StylizeError::Temperature { got: request.temperature, max: MAX_TEMPERATURE });
+    }
+    let mut resolver =
+        Resolver { weights, stylizer, samples: n, temperature: request.temperature, draws: Draws::new(request.seed) };
     let codes = resolver.resolve(&request.source)?;
     if codes.label.is_some() != stylizer.config.supervised {
         return Err(StylizeError::Model("style labels do not match the model's setting".into()));
@@ -293,6 +300,7 @@ fn to_motion(
     let mut features = Features::new(frames, data)?;
     weights.norm().denormalize(&mut features);
     let motion = reconstruct(&features)?;
+    let motion = feet::pin_feet(&motion, &feet::contacts(&features)).map_err(|e| StylizeError::Features(e.into()))?;
     placement.from_canonical_motion(&motion).map_err(|e| StylizeError::Features(e.into()))
 }
 

@@ -37,6 +37,7 @@
 //!
 //! [`corpus::load`]: crate::dataset::corpus::load
 
+pub mod classifier;
 pub mod eval;
 pub mod export;
 pub mod progress;
@@ -55,7 +56,7 @@ use crate::dataset::corpus::{self, Clip};
 use crate::dataset::{STYLES, Split};
 use crate::features::{Features, NormStats};
 use crate::model::config::FRAME_MULTIPLE;
-use crate::model::train::{AeTrainer, StylizerBatch, StylizerTrainer};
+use crate::model::train::{AeTrainer, ClassifierTrainer, StylizerBatch, StylizerTrainer};
 use crate::model::{GlobalRegressor, ModelConfig, MotionAutoencoder, StylizerNet, TrainConfig};
 use eval::HeldoutSet;
 pub use progress::ProgressMode;
@@ -106,6 +107,8 @@ pub enum Stage {
     /// Stylizer on the frozen autoencoder of an `ae` run (`ae`: its folder or a checkpoint file;
     /// needed for a new run, ignored on resume: the run keeps its own copy).
     Stylizer { ae: Option<PathBuf>, supervised: bool },
+    /// The evaluation's style classifier (training takes only; see [`classifier`]).
+    Classifier,
 }
 
 impl Stage {
@@ -113,6 +116,7 @@ impl Stage {
         match self {
             Stage::Ae => "ae",
             Stage::Stylizer { .. } => "stylizer",
+            Stage::Classifier => "classifier",
         }
     }
 }
@@ -333,6 +337,15 @@ pub fn train(opts: &TrainOptions) -> anyhow::Result<TrainSummary> {
                 None,
                 None,
             ),
+            Stage::Classifier => (
+                RunConfig {
+                    sampler: "style-balanced: a style uniformly, a clip of it uniformly, a window of that clip".into(),
+                    ..base
+                },
+                None,
+                None,
+                None,
+            ),
             Stage::Stylizer { ae, supervised } => {
                 let ae = ae.as_ref().context("the stylizer stage needs --ae DIR (an `ae` run)")?;
                 let (ae_config, ae_bytes, norm) = ae_source(ae)?;
@@ -422,7 +435,7 @@ pub fn train(opts: &TrainOptions) -> anyhow::Result<TrainSummary> {
         heldout.len(),
         heldout.skipped
     ));
-    if let Stage::Stylizer { .. } = opts.stage {
+    if matches!(opts.stage, Stage::Stylizer { .. } | Stage::Classifier) {
         let names: Vec<String> = sampler.styles().iter().map(|(s, n)| format!("{} {n}", STYLES[*s])).collect();
         say(format!("styles (clips): {}", names.join(", ")));
     }
@@ -507,6 +520,25 @@ pub fn train(opts: &TrainOptions) -> anyhow::Result<TrainSummary> {
                 device,
             })
         }
+        Stage::Classifier => {
+            let mut trainer =
+                ClassifierTrainer::new(config.model.clone(), config.train.clone(), &device, trainer_seed);
+            if let Some(ckpt) = &resume_from {
+                trainer.classifier =
+                    load_module(crate::model::StyleClassifier::new(&config.model, trainer.device()), &ckpt.weights)?;
+            }
+            Box::new(classifier::ClassifierRunner {
+                trainer,
+                clips,
+                styles,
+                sampler,
+                heldout: classifier::ClassifierRunner::heldout_takes(&corpus.heldout, &norm),
+                norm,
+                batch: config.batch,
+                window: config.window,
+                device,
+            })
+        }
     };
 
     let mut rng = match &resume_from {
@@ -584,6 +616,9 @@ pub fn train(opts: &TrainOptions) -> anyhow::Result<TrainSummary> {
                 weights: runner.weights()?,
             };
             rundir::write_atomic(&out.join(rundir::CHECKPOINT), &ckpt.to_bytes()?)?;
+            for (name, bytes) in runner.artifacts()? {
+                rundir::write_atomic(&out.join(name), &bytes)?;
+            }
             let seg = log.segments.last_mut().expect("a segment");
             seg.to_step = step;
             seg.step_s = step_s;
@@ -651,6 +686,10 @@ trait Runner {
     fn evaluate(&self) -> Vec<f64>;
     /// Burnpack bytes of the trained networks (f32).
     fn weights(&self) -> anyhow::Result<Vec<u8>>;
+    /// Other files written beside each checkpoint: (file name, bytes).
+    fn artifacts(&self) -> anyhow::Result<Vec<(&'static str, Vec<u8>)>> {
+        Ok(Vec::new())
+    }
 }
 
 struct AeRunner {

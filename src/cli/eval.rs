@@ -1,0 +1,121 @@
+//! `motion-stylizer eval --data DIR [--content DIR] [--repeats R] [--seed S] [--json OUT]`: see
+//! [`motion_stylizer::eval`].
+
+use anyhow::Context;
+use clap::Args;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use motion_stylizer::dataset::Split;
+use motion_stylizer::eval::classify::Judge;
+use motion_stylizer::eval::protocol::{self, Inputs};
+use motion_stylizer::eval::report::{self, Provenance};
+use motion_stylizer::eval::{load_contents, load_heldout};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+#[derive(Args, Debug)]
+pub struct EvalArgs {
+    /// Folder with both Bandai-Namco archives unpacked (DIR/dataset-1, DIR/dataset-2): the
+    /// held-out takes give the style references, labels, the `real` row and (by default) contents.
+    #[arg(long, value_name = "DIR")]
+    data: PathBuf,
+    /// Stylize every .bvh in this folder (any rig the importer accepts) instead of the held-out takes.
+    #[arg(long, value_name = "DIR")]
+    content: Option<PathBuf>,
+    /// Repeats (new targets, references and noise each); the confidence intervals are over them.
+    #[arg(long, default_value_t = 5, value_name = "R")]
+    repeats: usize,
+    /// Seed of the targets, references and style noise.
+    #[arg(long, default_value_t = 0, value_name = "S")]
+    seed: u64,
+    /// Also write the results as JSON.
+    #[arg(long, value_name = "OUT")]
+    json: Option<PathBuf>,
+    /// At most this many contents (evenly spaced; 0: all).
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    limit: usize,
+    /// Trained weights folder [default: assets/weights in the crate].
+    #[arg(long, value_name = "DIR")]
+    weights: Option<PathBuf>,
+    /// The style classifier (`train classifier` writes it as classifier.bin in its run folder)
+    /// [default: assets/eval/classifier.bin in the crate].
+    #[arg(long, value_name = "FILE")]
+    classifier: Option<PathBuf>,
+    /// Held-out split file.
+    #[arg(long, default_value = "assets/split/heldout.txt", value_name = "FILE")]
+    split: PathBuf,
+}
+
+fn crate_path(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
+}
+
+pub fn run(args: &EvalArgs) -> anyhow::Result<()> {
+    anyhow::ensure!(args.repeats >= 1, "--repeats must be at least 1");
+    let t0 = Instant::now();
+    let weights_dir = args.weights.clone().unwrap_or_else(super::stylize::default_weights_dir);
+    let weights = super::stylize::load_weights(&weights_dir)?;
+    let classifier_path = args.classifier.clone().unwrap_or_else(|| crate_path("assets/eval/classifier.bin"));
+    let bytes = std::fs::read(&classifier_path)
+        .with_context(|| format!("cannot read the style classifier {}", classifier_path.display()))?;
+    let judge = Judge::from_bytes(&bytes, weights.norm().clone())
+        .with_context(|| format!("{} is not a style classifier", classifier_path.display()))?;
+    anyhow::ensure!(
+        judge.num_styles() == weights.styles().len(),
+        "the classifier knows {} styles, the weights {}",
+        judge.num_styles(),
+        weights.styles().len()
+    );
+
+    let split_text = super::read_text(&args.split)?;
+    let split = Split::parse(&split_text).with_context(|| format!("split file {}", args.split.display()))?;
+    let heldout = load_heldout(&args.data, &split)?;
+    let mut contents = match &args.content {
+        None => heldout.clone(),
+        Some(dir) => {
+            let (ok, failed) = load_contents(dir)?;
+            for (path, why) in failed {
+                eprintln!("warning: skipped {}: {why}", path.display());
+            }
+            ok
+        }
+    };
+    if args.limit > 0 && contents.len() > args.limit {
+        let n = contents.len();
+        contents = (0..args.limit).map(|i| contents[i * n / args.limit].clone()).collect();
+    }
+    eprintln!(
+        "{} contents, {} held-out takes, {} repeats",
+        contents.len(),
+        heldout.len(),
+        args.repeats
+    );
+
+    let bar = ProgressBar::with_draw_target(Some((contents.len() * args.repeats) as u64), ProgressDrawTarget::stderr());
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} contents | {per_sec} | ETA {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let inputs =
+        Inputs { weights: &weights, judge: &judge, heldout: &heldout, contents: &contents, repeats: args.repeats, seed: args.seed };
+    let rows = protocol::evaluate(&inputs, &mut |done, _| bar.set_position(done as u64))?;
+    bar.finish_and_clear();
+
+    println!("{}", report::to_table(&rows));
+    let provenance = Provenance {
+        command: std::env::args().collect::<Vec<_>>().join(" "),
+        weights: weights_dir.display().to_string(),
+        classifier: classifier_path.display().to_string(),
+        contents: args.content.as_ref().map_or("heldout".into(), |d| d.display().to_string()),
+        num_contents: contents.len(),
+        num_heldout: heldout.len(),
+        repeats: args.repeats,
+        seed: args.seed,
+        seconds: t0.elapsed().as_secs_f64(),
+    };
+    if let Some(path) = &args.json {
+        let json = serde_json::to_string_pretty(&report::to_json(&rows, &provenance))?;
+        super::write_text(path, &(json + "\n"))?;
+        eprintln!("results -> {}", path.display());
+    }
+    Ok(())
+}

@@ -1,0 +1,224 @@
+//! The evaluation protocol: which contents, styles and references, and the rows of the table.
+//!
+//! Per repeat `r` (its own generator, from the seed and `r`), every content gets a **target
+//! style** `X`, uniform over the styles that have held-out takes, other than the content's own
+//! (a content from `--content DIR` has no label: any style), and a **reference**: a held-out take
+//! of style `X`, uniform (never the content's own take, since its style differs). Rows:
+//!
+//! - `real`: the held-out takes themselves, judged against their own labels; FID against another
+//!   held-out take of the same style each (the take itself if it is its style's only one).
+//! - `identity`: the output is the content, unchanged; judged against the target `X`.
+//! - `sup_motion`: supervised, motion-based with the reference (and its label `X`).
+//! - `sup_label`: supervised, label-based with `X`.
+//! - `unsup_motion`: unsupervised, motion-based with the reference.
+//! - `unsup_prior`: unsupervised, style drawn from the prior (no target: no style accuracy).
+//!
+//! Metrics of a row, per repeat: `style_acc` (classifier's prediction = `X`), `style_fid`
+//! (classifier features of the outputs against those of the references), `geodesic` (to the
+//! content), `diversity` (distance between two samples of the same input, in the classifier's
+//! feature space; `diversity_cm`: mean joint distance, cm), `foot_skate` (cm/s). Motion-based
+//! outputs are the posterior mean (what the CLI gives by default); their diversity is measured on
+//! two extra draws from the posterior. Label- and prior-based outputs are the first of two
+//! samples; diversity is between the two. Each value is the mean over repeats with its 95 %
+//! confidence half-width.
+
+use rand_chacha::ChaCha8Rng;
+use rand_chacha::rand_core::{RngCore, SeedableRng};
+use serde::Serialize;
+
+use super::classify::{Judge, Judgement};
+use super::metrics::{feature_distance, fid, foot_skate, geodesic, mean_ci, position_distance};
+use crate::Motion;
+use crate::dataset::Style;
+use crate::stylize::{self, Request, Setting, StyleSource, StylizeError, Weights};
+
+/// One motion of the evaluation with its style label, if known.
+#[derive(Clone, Debug)]
+pub struct Labelled {
+    pub name: String,
+    pub motion: Motion,
+    pub style: Option<usize>,
+}
+
+/// The settings (rows) in table order.
+pub const ROWS: [&str; 6] = ["real", "identity", "sup_motion", "sup_label", "unsup_motion", "unsup_prior"];
+
+/// The metrics (columns) in table order.
+pub const COLUMNS: [&str; 6] = ["style_acc", "style_fid", "geodesic", "diversity", "diversity_cm", "foot_skate"];
+
+/// Inputs of an evaluation.
+pub struct Inputs<'a> {
+    pub weights: &'a Weights,
+    pub judge: &'a Judge,
+    /// Held-out takes: style references, and the `real` row.
+    pub heldout: &'a [Labelled],
+    /// The contents to stylize (held-out takes, or any motions).
+    pub contents: &'a [Labelled],
+    pub repeats: usize,
+    pub seed: u64,
+}
+
+/// One row of the result: per metric, the mean over repeats and the 95 % half-width (`None`:
+/// does not apply to the row, or fewer than two repeats for the half-width).
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Row {
+    pub setting: &'static str,
+    pub values: Vec<(&'static str, Option<f64>, Option<f64>)>,
+}
+
+impl Row {
+    pub fn get(&self, metric: &str) -> Option<f64> {
+        self.values.iter().find(|v| v.0 == metric).and_then(|v| v.1)
+    }
+}
+
+/// What one repeat measured for one row, summed over contents.
+#[derive(Default, Clone)]
+struct Tally {
+    correct: usize,
+    judged: usize,
+    features: Vec<Vec<f32>>,
+    references: Vec<Vec<f32>>,
+    geodesic: Vec<f64>,
+    diversity: Vec<f64>,
+    diversity_cm: Vec<f64>,
+    outputs: Vec<Motion>,
+}
+
+impl Tally {
+    fn judge(&mut self, j: Judgement, target: Option<usize>, reference: &[f32]) {
+        if let Some(x) = target {
+            self.judged += 1;
+            self.correct += usize::from(j.predicted == x);
+        }
+        self.features.push(j.feature);
+        self.references.push(reference.to_vec());
+    }
+
+    fn per_repeat(&self) -> [Option<f64>; 6] {
+        let mean = |v: &[f64]| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
+        [
+            (self.judged > 0).then(|| self.correct as f64 / self.judged as f64),
+            fid(&self.features, &self.references),
+            mean(&self.geodesic),
+            mean(&self.diversity),
+            mean(&self.diversity_cm),
+            foot_skate(&self.outputs),
+        ]
+    }
+}
+
+/// Progress callback: (done, total) content evaluations.
+pub type Progress<'a> = dyn FnMut(usize, usize) + 'a;
+
+fn below(rng: &mut ChaCha8Rng, n: usize) -> usize {
+    (rng.next_u64() % n as u64) as usize
+}
+
+/// Runs the evaluation (see the module docs).
+pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Vec<Row>, StylizeError> {
+    let judged_heldout: Vec<Judgement> = inputs.heldout.iter().map(|h| inputs.judge.judge(&h.motion)).collect();
+    let n_styles = inputs.judge.num_styles();
+    let mut by_style: Vec<Vec<usize>> = vec![Vec::new(); n_styles];
+    for (i, h) in inputs.heldout.iter().enumerate() {
+        if let Some(s) = h.style.filter(|s| *s < n_styles) {
+            by_style[s].push(i);
+        }
+    }
+    let styles: Vec<usize> = (0..n_styles).filter(|s| !by_style[*s].is_empty()).collect();
+    let total = inputs.repeats * inputs.contents.len();
+    let mut per_row: Vec<Vec<[Option<f64>; 6]>> = vec![Vec::new(); ROWS.len()];
+    let mut done = 0;
+    for r in 0..inputs.repeats {
+        let mut rng = ChaCha8Rng::seed_from_u64(inputs.seed ^ (r as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
+        let mut tallies: Vec<Tally> = vec![Tally::default(); ROWS.len()];
+
+        // `real`: every held-out take against its own label.
+        for (i, h) in inputs.heldout.iter().enumerate() {
+            let Some(style) = h.style.filter(|s| *s < n_styles) else { continue };
+            let same = &by_style[style];
+            let others: Vec<usize> = same.iter().copied().filter(|&k| k != i).collect();
+            let pick = if others.is_empty() { i } else { others[below(&mut rng, others.len())] };
+            tallies[0].judge(judged_heldout[i].clone(), Some(style), &judged_heldout[pick].feature);
+            tallies[0].outputs.push(h.motion.clone());
+        }
+
+        for content in inputs.contents {
+            let candidates: Vec<usize> = styles.iter().copied().filter(|s| Some(*s) != content.style).collect();
+            if candidates.is_empty() {
+                continue;
+            }
+            let target = candidates[below(&mut rng, candidates.len())];
+            let ref_index = by_style[target][below(&mut rng, by_style[target].len())];
+            let reference = &inputs.heldout[ref_index];
+            let ref_feature = judged_heldout[ref_index].feature.clone();
+            let seed = rng.next_u64();
+            let label = Style(target as u8);
+
+            // identity
+            tallies[1].judge(inputs.judge.judge(&content.motion), Some(target), &ref_feature);
+            tallies[1].geodesic.push(0.0);
+            tallies[1].outputs.push(content.motion.clone());
+
+            let sources: [(usize, Setting, StyleSource<'_>, bool); 4] = [
+                (2, Setting::Supervised, StyleSource::labelled_motion(&reference.motion, label), true),
+                (3, Setting::Supervised, StyleSource::Label(label), false),
+                (4, Setting::Unsupervised, StyleSource::motion(&reference.motion), true),
+                (5, Setting::Unsupervised, StyleSource::Prior, false),
+            ];
+            for (row, setting, source, motion_based) in sources {
+                if !inputs.weights.has(setting) {
+                    continue;
+                }
+                let request = Request::new(source).with_setting(setting).with_seed(seed);
+                let (output, pair) = if motion_based {
+                    let mean = stylize::stylize(inputs.weights, &content.motion, &request)?.remove(0);
+                    let draws = stylize::stylize(inputs.weights, &content.motion, &request.clone().with_samples(2))?;
+                    (mean, draws)
+                } else {
+                    let samples = stylize::stylize(inputs.weights, &content.motion, &request.with_samples(2))?;
+                    (samples[0].clone(), samples)
+                };
+                let t = &mut tallies[row];
+                let target = (row != 5).then_some(target);
+                t.judge(inputs.judge.judge(&output), target, &ref_feature);
+                if let Some(g) = geodesic(&content.motion, &output) {
+                    t.geodesic.push(g);
+                }
+                let (a, b) = (inputs.judge.judge(&pair[0]), inputs.judge.judge(&pair[1]));
+                t.diversity.push(feature_distance(&a.feature, &b.feature));
+                if let Some(d) = position_distance(&pair[0], &pair[1]) {
+                    t.diversity_cm.push(d);
+                }
+                t.outputs.push(output);
+            }
+            done += 1;
+            progress(done, total);
+        }
+        for (row, t) in tallies.iter().enumerate() {
+            per_row[row].push(t.per_repeat());
+        }
+    }
+
+    Ok(ROWS
+        .iter()
+        .enumerate()
+        .map(|(row, &setting)| {
+            let values = COLUMNS
+                .iter()
+                .enumerate()
+                .map(|(c, &name)| {
+                    let v: Vec<f64> = per_row[row].iter().filter_map(|m| m[c]).collect();
+                    // A metric counts only if every repeat measured it.
+                    let stats = (v.len() == per_row[row].len()).then(|| mean_ci(&v)).flatten();
+                    let not_applicable = (row <= 1 && name.starts_with("diversity")) || (row == 5 && name == "style_acc");
+                    match stats {
+                        Some((m, ci)) if !not_applicable => (name, Some(m), ci),
+                        _ => (name, None, None),
+                    }
+                })
+                .collect();
+            Row { setting, values }
+        })
+        .collect())
+}

@@ -1,0 +1,114 @@
+//! `motion-stylizer eval` end to end on a miniature data folder cut from the fixtures (four
+//! held-out takes of four styles), with the shipped weights and classifier.
+#![cfg(feature = "model")]
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// `DIR/dataset-{1,2}/data/*.bvh` named as Bandai takes, and a split holding all of them out.
+fn mini_data(dir: &Path) -> PathBuf {
+    let fixtures = root().join("tests/fixtures/bandai");
+    let takes = [
+        ("dataset-1", "dataset-1_walk_tired_001_f90", "dataset-1_walk_tired_001"),
+        ("dataset-2", "dataset-2_walk_elderly_001_f120", "dataset-2_walk_elderly_001"),
+        ("dataset-2", "dataset-2_walk_normal_001_f120", "dataset-2_walk_normal_001"),
+        ("dataset-2", "dataset-2_raise-up-both-hands_active_001", "dataset-2_raise-up-both-hands_active_001"),
+    ];
+    let mut split = String::new();
+    for (set, fixture, take) in takes {
+        let data = dir.join(set).join("data");
+        std::fs::create_dir_all(&data).unwrap();
+        std::fs::copy(fixtures.join(format!("{fixture}.bvh")), data.join(format!("{take}.bvh"))).unwrap();
+        split.push_str(take);
+        split.push('\n');
+    }
+    let split_path = dir.join("split.txt");
+    std::fs::write(&split_path, split).unwrap();
+    split_path
+}
+
+fn eval(dir: &Path, extra: &[&str]) -> Value {
+    let split = mini_data(dir);
+    let json = dir.join("eval.json");
+    let out = Command::new(env!("CARGO_BIN_EXE_motion-stylizer"))
+        .current_dir(root())
+        .args(["eval", "--data", dir.to_str().unwrap(), "--split", split.to_str().unwrap()])
+        .args(["--repeats", "2", "--seed", "3", "--json", json.to_str().unwrap()])
+        .args(extra)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "eval failed: {}", String::from_utf8_lossy(&out.stderr));
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.contains("| sup_label |"), "{table}");
+    serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap()
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("ms-eval-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+fn row<'a>(v: &'a Value, setting: &str) -> &'a Value {
+    v["rows"].as_array().unwrap().iter().find(|r| r["setting"] == setting).unwrap_or_else(|| panic!("{setting}"))
+}
+
+#[test]
+fn heldout_rows_have_every_metric_where_it_applies_and_null_where_not() {
+    let dir = tmp("heldout");
+    let v = eval(&dir, &[]);
+    let settings: Vec<&str> = v["rows"].as_array().unwrap().iter().map(|r| r["setting"].as_str().unwrap()).collect();
+    assert_eq!(settings, ["real", "identity", "sup_motion", "sup_label", "unsup_motion", "unsup_prior"]);
+    assert_eq!(v["provenance"]["num_contents"], 4);
+    assert_eq!(v["provenance"]["repeats"], 2);
+
+    for metric in ["geodesic", "diversity"] {
+        assert!(row(&v, "real")[metric].is_null(), "real {metric}");
+    }
+    assert_eq!(row(&v, "identity")["geodesic"], 0.0);
+    assert!(row(&v, "identity")["diversity"].is_null());
+    assert!(row(&v, "unsup_prior")["style_acc"].is_null(), "the prior has no target style");
+    for setting in ["sup_motion", "sup_label", "unsup_motion", "unsup_prior"] {
+        let r = row(&v, setting);
+        let g = r["geodesic"].as_f64().unwrap();
+        assert!(g > 0.01 && g < 3.15, "{setting} geodesic {g}");
+        assert!(r["diversity"].as_f64().unwrap() > 0.0, "{setting} diversity");
+        assert!(r["foot_skate"].as_f64().unwrap() >= 0.0);
+        assert!(r["geodesic_ci"].is_f64(), "{setting}: two repeats give an interval");
+        if setting != "unsup_prior" {
+            let acc = r["style_acc"].as_f64().unwrap();
+            assert!((0.0..=1.0).contains(&acc), "{setting} acc {acc}");
+        }
+    }
+    // The contents' own takes are never their references: identity is judged against other styles.
+    let real = row(&v, "real")["style_acc"].as_f64().unwrap();
+    assert!((0.0..=1.0).contains(&real));
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn foreign_rig_contents_are_stylized_zero_shot() {
+    let dir = tmp("foreign");
+    let foreign = root().join("tests/fixtures/foreign");
+    let v = eval(&dir, &["--content", foreign.to_str().unwrap()]);
+    assert_eq!(v["provenance"]["num_contents"], 4);
+    assert!(row(&v, "sup_label")["style_acc"].is_f64());
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn a_missing_data_folder_is_a_clear_error() {
+    let out = Command::new(env!("CARGO_BIN_EXE_motion-stylizer"))
+        .current_dir(root())
+        .args(["eval", "--data", "/nonexistent/data"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("/nonexistent/data"), "{err}");
+}
