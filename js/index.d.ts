@@ -34,7 +34,10 @@ export interface WeightFiles {
 }
 
 export interface LoadOptions {
-  /** Default: the weights shipped in the package. A folder URL, or the files' bytes. */
+  /**
+   * Default: the weights shipped in the package. A folder URL (relative ones: to the page in
+   * browsers, to the package in Node; absolute paths work in Node), or the files' bytes.
+   */
   weights?: string | URL | WeightFiles;
   /** 'cpu' (default, Burn flex with wasm SIMD); 'webgpu' falls back to 'cpu' (see fallbackReason). */
   backend?: 'cpu' | 'webgpu' | 'ndarray';

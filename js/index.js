@@ -51,9 +51,14 @@ function toBytes(value, what) {
 
 const SETTINGS = ['supervised', 'unsupervised'];
 
-/** The weight files from a folder URL: manifest.json, the statistics and bundles it names. */
+/**
+ * The weight files from a folder URL: manifest.json, the statistics and bundles it names. A
+ * relative URL is relative to the page (browsers) or to this package (Node, where absolute paths
+ * work as they are).
+ */
 async function fetchWeights(base, settings) {
-  const dir = new URL(base.toString().endsWith('/') ? base : `${base}/`, import.meta.url);
+  const href = base.toString();
+  const dir = new URL(href.endsWith('/') ? href : `${href}/`, globalThis.location?.href ?? import.meta.url);
   const manifestBytes = await readUrl(new URL('manifest.json', dir));
   let manifest;
   try {
@@ -178,7 +183,7 @@ export class Stylizer {
     await initEngine();
     const files =
       weights == null || typeof weights === 'string' || weights instanceof URL
-        ? await fetchWeights(weights ?? './weights/', settings)
+        ? await fetchWeights(weights ?? new URL('./weights/', import.meta.url), settings)
         : weights;
     if (typeof files !== 'object') throw codedError('BAD_WEIGHTS', 'weights must be a URL or {manifest, norm, ...}');
     const pick = (s) => (settings.includes(s) ? toBytes(files[s], s) : undefined);

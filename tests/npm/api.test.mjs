@@ -91,13 +91,11 @@ test('errors: stable codes', async () => {
   await rejects(() => s.importBvh('HIERARCHY\nROOT'), 'BVH_PARSE');
   await rejects(() => s.importBvh(42), 'BAD_REQUEST');
   await rejects(() => s.importBvh(read(fixture('small.bvh'))), 'RIG_UNMATCHED');
-  try {
-    s.importBvh(read(join(fixture('..'), 'malformed/duplicate_joint.bvh')));
-  } catch (e) {
-    assert.equal(e.code, 'BVH_PARSE');
-    assert.equal(e.line, 6);
-    assert.equal(e.kind, 'DuplicateJoint');
-  }
+  assert.throws(() => s.importBvh(read(join(fixture('..'), 'malformed/duplicate_joint.bvh'))), {
+    code: 'BVH_PARSE',
+    line: 6,
+    kind: 'DuplicateJoint',
+  });
   await rejects(() => s.stylize(content, {}), 'BAD_REQUEST');
   await rejects(() => s.stylize(content, { label: 'grumpy' }), 'UNKNOWN_LABEL');
   await rejects(() => s.stylize(content, { label: 7 }), 'BAD_REQUEST');
@@ -133,10 +131,12 @@ test('webgpu: falls back to the CPU with the reason', async () => {
   assert.equal((await g.stylize(walk, { prior: true, unsupervised: true })).length, 1);
 });
 
-test('weights as bytes, and fetched over HTTP (the browser path)', async () => {
+test('weights as bytes, from a folder path, and fetched over HTTP (the browser path)', async () => {
   const w = (f) => readFileSync(join(pkgDir, 'weights', f));
   const fromBytes = await Stylizer.load({ weights: { manifest: w('manifest.json'), norm: w('norm.json'), supervised: w('supervised.bin') } });
   assert.deepEqual(fromBytes.settings(), ['supervised']);
+  const fromPath = await Stylizer.load({ weights: join(pkgDir, 'weights'), settings: ['unsupervised'] });
+  assert.deepEqual(fromPath.settings(), ['unsupervised']);
   const server = createServer((req, res) => {
     try {
       res.end(readFileSync(join(pkgDir, decodeURIComponent(new URL(req.url, 'http://x').pathname))));
