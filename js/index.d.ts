@@ -77,6 +77,11 @@ export type StylizeOptions = StyleSource & {
   samples?: number;
   /** Seed of the random draws; same seed and input, same output bits. Default 0. */
   seed?: number | bigint;
+  /**
+   * Scale of the style codes drawn from the prior (label- and prior-based), 0-4. Default 0.3
+   * (measured: closer to the label's style than the paper's 1.0); 0 is the label's mean style.
+   */
+  temperature?: number;
   /** Output skeleton: the content's own rig (default) or the canonical 21-joint rig. */
   rig?: 'content' | 'canonical';
 };

@@ -224,17 +224,22 @@ export class Stylizer {
   /**
    * Stylizes `content` (a Motion or BVH text). Options: one style source (label | styleMotion
    * (+ label for the supervised model) | prior: true | mix: {a, b, t}), unsupervised, samples
-   * (1-64), seed (integer or BigInt), rig ('content' | 'canonical').
+   * (1-64), seed (integer or BigInt), rig ('content' | 'canonical'), temperature (scale of prior
+   * draws, 0-4; default the library's, 0.3).
    */
   async stylize(content, options = {}) {
     const motion = this.asContent(content, 'content');
-    const { unsupervised = false, samples = 1, seed = 0, rig = 'content' } = options;
+    const { unsupervised = false, samples = 1, seed = 0, rig = 'content', temperature } = options;
     if (rig !== 'content' && rig !== 'canonical') throw codedError('BAD_REQUEST', "rig must be 'content' or 'canonical'");
     if (typeof samples !== 'number') throw codedError('BAD_REQUEST', 'samples must be a number');
     if (typeof unsupervised !== 'boolean') throw codedError('BAD_REQUEST', 'unsupervised must be a boolean');
+    if (temperature !== undefined && typeof temperature !== 'number') {
+      throw codedError('BAD_REQUEST', 'temperature must be a number in [0, 4]');
+    }
     const spec = styleSpec(this, options, 0);
     try {
-      const outputs = this.engine.stylize(motion.content, spec, unsupervised, samples, seed, rig === 'canonical');
+      const canonical = rig === 'canonical';
+      const outputs = this.engine.stylize(motion.content, spec, unsupervised, samples, seed, canonical, temperature);
       return outputs.map((o) => new StylizedMotion(o));
     } finally {
       spec.free();

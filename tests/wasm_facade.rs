@@ -67,7 +67,7 @@ fn run(
     canonical: bool,
 ) -> Vec<Output> {
     engine
-        .stylize(content, style, unsupervised, samples, JsValue::from_f64(seed as f64), canonical)
+        .stylize(content, style, unsupervised, samples, JsValue::from_f64(seed as f64), canonical, None)
         .unwrap_or_else(|e| panic!("stylize: {} ({})", message(&e), code(&e)))
 }
 
@@ -153,8 +153,16 @@ fn same_input_and_seed_give_the_same_bits() {
         assert_ne!(first, texts(12));
         assert_ne!(first[0], first[1], "samples differ");
         // A BigInt seed is the same seed as the number.
-        let big = e.stylize(&content, &style, false, 3.0, JsValue::from(11u64), false).unwrap();
+        let big = e.stylize(&content, &style, false, 3.0, JsValue::from(11u64), false, None).unwrap();
         assert_eq!(first, big.iter().map(Output::to_bvh).collect::<Vec<_>>());
+        // Temperature: undefined is the library's default; 0 draws the zero code whatever the seed.
+        let with_t = |seed: f64, t: Option<f64>| {
+            e.stylize(&content, &style, false, 1.0, JsValue::from_f64(seed), false, t).unwrap()[0].to_bvh()
+        };
+        let default_t = f64::from(motion_stylizer::stylize::DEFAULT_TEMPERATURE);
+        assert_eq!(with_t(11.0, None), with_t(11.0, Some(default_t)));
+        assert_ne!(with_t(11.0, None), with_t(11.0, Some(1.0)));
+        assert_eq!(with_t(1.0, Some(0.0)), with_t(2.0, Some(0.0)));
         // A mix at t = 0 is its first source.
         let reference = import(REFERENCE);
         let a = StyleSpec::motion(&reference, None);
@@ -210,7 +218,7 @@ fn bad_requests_give_their_codes() {
         let reference = import(REFERENCE);
         let label = StyleSpec::label("old".into());
         let call = |style: &StyleSpec, unsupervised: bool, samples: f64, seed: JsValue| {
-            err_code(e.stylize(&content, style, unsupervised, samples, seed, false))
+            err_code(e.stylize(&content, style, unsupervised, samples, seed, false, None))
         };
         let zero = JsValue::from_f64(0.0);
         assert_eq!(call(&StyleSpec::label("grumpy".into()), false, 1.0, zero.clone()), "UNKNOWN_LABEL");
@@ -230,6 +238,10 @@ fn bad_requests_give_their_codes() {
         assert_eq!(call(&label, true, 1.0, zero.clone()), "BAD_REQUEST", "label with the unsupervised model");
         assert_eq!(call(&StyleSpec::motion(&reference, None), false, 1.0, zero.clone()), "BAD_REQUEST");
         assert_eq!(call(&StyleSpec::motion(&reference, Some("old".into())), true, 1.0, zero.clone()), "BAD_REQUEST");
+        for temperature in [-0.5, 4.5, f64::NAN, f64::INFINITY] {
+            let r = e.stylize(&content, &label, false, 1.0, zero.clone(), false, Some(temperature));
+            assert_eq!(err_code(r), "BAD_REQUEST", "temperature {temperature}");
+        }
         for t in [-0.1, 1.5, f64::NAN] {
             let mix = StyleSpec::mix(&label, &StyleSpec::prior(), t).unwrap();
             assert_eq!(call(&mix, false, 1.0, zero.clone()), "BAD_REQUEST", "t {t}");
@@ -261,7 +273,7 @@ fn weights_that_cannot_be_used_give_bad_weights() {
     let only = Engine::new(MANIFEST, NORM, Some(SUPERVISED.to_vec()), None, "cpu").unwrap();
     assert_eq!(only.settings(), ["supervised"]);
     let content = import(FOREIGN[3].1);
-    let r = only.stylize(&content, &StyleSpec::prior(), true, 1.0, JsValue::UNDEFINED, false);
+    let r = only.stylize(&content, &StyleSpec::prior(), true, 1.0, JsValue::UNDEFINED, false, None);
     assert_eq!(err_code(r), "SETTING_UNAVAILABLE");
 }
 
@@ -342,7 +354,7 @@ fn hostile_inputs_give_results_or_codes_never_a_trap() {
                     (StyleSpec::prior(), false),
                 ];
                 for (style, unsupervised) in &styles {
-                    for out in e.stylize(&content, style, *unsupervised, 2.0, JsValue::from_f64(1.0), false)? {
+                    for out in e.stylize(&content, style, *unsupervised, 2.0, JsValue::from_f64(1.0), false, None)? {
                         check_output(&out, content.frames());
                     }
                 }

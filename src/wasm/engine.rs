@@ -7,7 +7,7 @@ use super::content::Content;
 use super::error::{bad_request, js_error, stylize_error};
 use super::output::Output;
 use super::style::StyleSpec;
-use crate::stylize::{self, Request, Setting, Weights};
+use crate::stylize::{self, DEFAULT_TEMPERATURE, Request, Setting, Weights};
 
 /// The trained models, ready to stylize.
 #[wasm_bindgen]
@@ -65,9 +65,11 @@ impl Engine {
 
     /// Stylizes `content` with the style of `style`: `samples` outputs (1–64) from `seed` (a
     /// non-negative safe integer or a BigInt below 2^64; `undefined` is 0), with the unsupervised
-    /// model or the supervised one, each on the canonical rig or the content's own. Errors: see
+    /// model or the supervised one, each on the canonical rig or the content's own; prior draws
+    /// scaled by `temperature` (`undefined`: the library's default). Errors: see
     /// [`crate::stylize::StylizeError::code`], and `BAD_REQUEST` for `samples` or `seed` values
     /// that are not integers in range.
+    #[allow(clippy::too_many_arguments)]
     pub fn stylize(
         &self,
         content: &Content,
@@ -76,12 +78,17 @@ impl Engine {
         samples: f64,
         seed: JsValue,
         canonical: bool,
+        temperature: Option<f64>,
     ) -> Result<Vec<Output>, JsValue> {
         let samples = count(samples)?;
         let seed = seed_of(&seed)?;
         let setting = if unsupervised { Setting::Unsupervised } else { Setting::Supervised };
         let source = style.source(&self.weights).map_err(|e| stylize_error(&e))?;
-        let request = Request::new(source).with_setting(setting).with_samples(samples).with_seed(seed);
+        let request = Request::new(source)
+            .with_setting(setting)
+            .with_samples(samples)
+            .with_seed(seed)
+            .with_temperature(temperature.map_or(DEFAULT_TEMPERATURE, |t| t as f32));
         let motions = stylize::stylize(&self.weights, &content.motion, &request).map_err(|e| stylize_error(&e))?;
         Ok(motions
             .iter()

@@ -82,6 +82,9 @@ test('stylize: every style source; seeds are deterministic', async () => {
     assert.deepEqual(a, await bvh({ ...o, seed: 9n, samples: 2 }), 'a BigInt seed is the same seed');
   }
   assert.notDeepEqual(await bvh({ label: 'old', seed: 1 }), await bvh({ label: 'old', seed: 2 }));
+  // Temperature 0: the label's zero code, whatever the seed; the default is 0.3.
+  assert.deepEqual(await bvh({ label: 'old', seed: 1, temperature: 0 }), await bvh({ label: 'old', seed: 2, temperature: 0 }));
+  assert.deepEqual(await bvh({ label: 'old', seed: 1 }), await bvh({ label: 'old', seed: 1, temperature: 0.3 }));
   // A mix at t = 0 is its first source.
   assert.deepEqual(await bvh({ mix: { a: { label: 'old' }, b: { label: 'sad' }, t: 0 }, seed: 4 }), await bvh({ label: 'old', seed: 4 }));
 });
@@ -111,6 +114,8 @@ test('errors: stable codes', async () => {
   await rejects(() => s.stylize(content, { label: 'old', seed: 2 ** 60 }), 'BAD_REQUEST');
   await rejects(() => s.stylize(content, { label: 'old', seed: 2n ** 64n }), 'BAD_REQUEST');
   await rejects(() => s.stylize(content, { label: 'old', rig: 'mine' }), 'BAD_REQUEST');
+  await rejects(() => s.stylize(content, { label: 'old', temperature: 5 }), 'BAD_REQUEST');
+  await rejects(() => s.stylize(content, { label: 'old', temperature: '1' }), 'BAD_REQUEST');
   await rejects(() => s.stylize(content, { mix: { a: { label: 'old' }, b: { label: 'sad' }, t: 2 } }), 'BAD_REQUEST');
   await rejects(() => s.stylize(content, { mix: { a: { label: 'old' }, t: 0.5 } }), 'BAD_REQUEST');
   let deep = { prior: true };
