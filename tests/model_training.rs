@@ -120,3 +120,33 @@ fn style_classifier_learns_one_batch_and_checks_its_labels() {
     assert!(matches!(trainer.step(x.clone(), &[0, 1]), Err(ModelError::BatchSize { .. })));
     assert!(matches!(trainer.step(x, &[0, 1, 2, 3, 0, 1]), Err(ModelError::Label(_))));
 }
+
+/// A trainer rebuilt from saved weights and Adam state takes exactly the step the original takes.
+#[test]
+fn resumed_adam_state_gives_the_same_next_step() {
+    use motion_stylizer::model::StyleClassifier;
+    use motion_stylizer::model::train::ClassifierTrainer;
+    let dev = Device::flex();
+    let x = features(&mut NoiseRng::new(5), 6, T);
+    let labels = [0, 1, 2, 0, 1, 2];
+    let mut a = ClassifierTrainer::new(cfg(true), fast_train(), &dev, 1);
+    for _ in 0..3 {
+        a.step(x.clone(), &labels).unwrap();
+    }
+    let record = a.classifier.clone().valid().into_record();
+    let state = a.optimizer_state().unwrap();
+
+    let mut b = ClassifierTrainer::new(cfg(true), fast_train(), &dev, 99);
+    b.classifier = StyleClassifier::new(&cfg(true), b.device()).load_record(record.clone());
+    b.load_optimizer_state(&state).unwrap();
+    let mut c = ClassifierTrainer::new(cfg(true), fast_train(), &dev, 99);
+    c.classifier = StyleClassifier::new(&cfg(true), c.device()).load_record(record);
+
+    let (ra, rb) = (a.step(x.clone(), &labels).unwrap(), b.step(x.clone(), &labels).unwrap());
+    c.step(x, &labels).unwrap();
+    assert_eq!(ra.loss, rb.loss);
+    let weights = |t: &ClassifierTrainer| t.classifier.clone().valid().output.weight.val().into_data().to_vec::<f32>().unwrap();
+    assert_eq!(weights(&a), weights(&b), "same Adam state, same update");
+    assert_ne!(weights(&a), weights(&c), "fresh moments make a different update");
+    assert!(b.load_optimizer_state(&state[..state.len() - 1]).is_err());
+}

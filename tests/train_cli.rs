@@ -119,8 +119,10 @@ fn ae_trains_checkpoints_resumes_and_refuses_to_overwrite() {
     let other = train(&["ae"], &root, &run, 6, &["--resume", "--width", "0.25"]);
     assert!(!other.status.success() && stderr(&other).contains("differs"), "{}", stderr(&other));
 
-    // Resume to 6 steps: the count goes on, the logs are appended.
-    ok(train(&["ae"], &root, &run, 6, &["--resume"]));
+    // Resume to 6 steps: the count goes on, the logs are appended, Adam's state comes back.
+    assert!(run.join("optimizer.bin").is_file());
+    let resumed_out = ok(train(&["ae"], &root, &run, 6, &["--resume"]));
+    assert!(stderr(&resumed_out).contains("resumed Adam's state of step 4"), "{}", stderr(&resumed_out));
     let loss = CsvTable::read(&run.join("loss.csv")).unwrap();
     assert_eq!(steps_of(&loss), [1, 2, 3, 4, 5, 6]);
     assert!(loss.rows.windows(2).all(|w| w[1][1] >= w[0][1]), "elapsed_s grows");
@@ -134,15 +136,23 @@ fn ae_trains_checkpoints_resumes_and_refuses_to_overwrite() {
     // Already there: nothing to do.
     ok(train(&["ae"], &root, &run, 6, &["--resume"]));
 
-    // A straight 6-step run: same first 4 steps (deterministic from the seed) and the same
-    // sampler position at the end (the resumed run drew the same batches). The weights differ:
-    // Adam's moments are not checkpointed (see `motion_stylizer::train`).
+    // A straight 6-step run: the same losses for the first 4 steps (deterministic from the seed)
+    // and the same sampler position at the end (the resumed run drew the same batches). After
+    // the resume the autoencoder's dropout masks differ (the device generator is reseeded), but
+    // the regressor has no dropout: its losses at steps 5 and 6 match the straight run's only
+    // because its weights AND Adam's moments were restored.
     let straight = root.join("ae-straight");
     ok(train(&["ae"], &root, &straight, 6, &TINY));
     let s_loss = CsvTable::read(&straight.join("loss.csv")).unwrap();
     let cols = 2..loss.columns.len();
     for k in 0..4 {
         assert_eq!(s_loss.rows[k][cols.clone()], loss.rows[k][cols.clone()], "step {}", k + 1);
+    }
+    let col = |name: &str| loss.columns.iter().position(|c| c == name).unwrap();
+    for k in 4..6 {
+        for name in ["regressor_loss", "regressor_grad_norm"] {
+            assert_eq!(s_loss.rows[k][col(name)], loss.rows[k][col(name)], "{name} at step {}", k + 1);
+        }
     }
     let s_ckpt = Checkpoint::read(&straight.join("checkpoint.bin")).unwrap();
     assert_eq!(s_ckpt.meta.sampler, resumed.meta.sampler);

@@ -81,6 +81,39 @@ fn adam() -> ModuleOptimizer {
     AdamConfig::new().with_epsilon(1e-8).init()
 }
 
+/// Adam states as bytes: per optimizer, its length (u64 LE) and its burnpack record (moments
+/// and step counts keyed by parameter id, which module records keep).
+fn optimizers_to_bytes(optims: &[&ModuleOptimizer]) -> Result<Vec<u8>, ModelError> {
+    let mut out = Vec::new();
+    for o in optims {
+        let bytes = o.into_bytes().map_err(|e| ModelError::Weights(format!("optimizer state: {e}")))?;
+        out.extend_from_slice(&(bytes.len() as u64).to_le_bytes());
+        out.extend_from_slice(&bytes);
+    }
+    Ok(out)
+}
+
+/// Inverse of [`optimizers_to_bytes`] for `count` optimizers.
+fn optimizers_from_bytes(bytes: &[u8], count: usize) -> Result<Vec<ModuleOptimizer>, ModelError> {
+    let bad = |m: &str| ModelError::Weights(format!("optimizer state: {m}"));
+    let mut rest = bytes;
+    let mut out = Vec::with_capacity(count);
+    for _ in 0..count {
+        let (len, tail) = rest.split_first_chunk::<8>().ok_or_else(|| bad("truncated"))?;
+        let len = usize::try_from(u64::from_le_bytes(*len)).map_err(|_| bad("length"))?;
+        let (record, tail) = tail.split_at_checked(len).ok_or_else(|| bad("truncated"))?;
+        let optim = adam()
+            .from_bytes(burn::tensor::Bytes::from_bytes_vec(record.to_vec()))
+            .map_err(|e| bad(&e.to_string()))?;
+        out.push(optim);
+        rest = tail;
+    }
+    if !rest.is_empty() {
+        return Err(bad("trailing bytes"));
+    }
+    Ok(out)
+}
+
 /// Reads several scalar losses with one device read.
 fn read_scalars(values: Vec<Tensor<1>>) -> Vec<f32> {
     let values: Vec<Tensor<1>> = values.into_iter().map(|t| t.detach().inner()).collect();
@@ -150,6 +183,19 @@ impl AeTrainer {
     /// The training device (autodiff).
     pub fn device(&self) -> &Device {
         &self.device
+    }
+
+    /// Both optimizers' Adam states, for a checkpoint.
+    pub fn optimizer_state(&self) -> Result<Vec<u8>, ModelError> {
+        optimizers_to_bytes(&[&self.optim_ae, &self.optim_regressor])
+    }
+
+    /// Restores [`AeTrainer::optimizer_state`] (after the networks' weights).
+    pub fn load_optimizer_state(&mut self, bytes: &[u8]) -> Result<(), ModelError> {
+        let mut o = optimizers_from_bytes(bytes, 2)?;
+        self.optim_regressor = o.pop().expect("two");
+        self.optim_ae = o.pop().expect("two");
+        Ok(())
     }
 
     /// One Adam step on features `[B, 260, T]` (normalised; T a multiple of 8).
@@ -256,6 +302,17 @@ impl StylizerTrainer {
     /// The training device (autodiff).
     pub fn device(&self) -> &Device {
         &self.device
+    }
+
+    /// The optimizer's Adam state, for a checkpoint.
+    pub fn optimizer_state(&self) -> Result<Vec<u8>, ModelError> {
+        optimizers_to_bytes(&[&self.optim])
+    }
+
+    /// Restores [`StylizerTrainer::optimizer_state`] (after the networks' weights).
+    pub fn load_optimizer_state(&mut self, bytes: &[u8]) -> Result<(), ModelError> {
+        self.optim = optimizers_from_bytes(bytes, 1)?.remove(0);
+        Ok(())
     }
 
     /// Latent of features through the frozen encoder (a sample for the VAE, as the reference),
@@ -378,6 +435,17 @@ impl ClassifierTrainer {
     /// The training device (autodiff).
     pub fn device(&self) -> &Device {
         &self.device
+    }
+
+    /// The optimizer's Adam state, for a checkpoint.
+    pub fn optimizer_state(&self) -> Result<Vec<u8>, ModelError> {
+        optimizers_to_bytes(&[&self.optim])
+    }
+
+    /// Restores [`ClassifierTrainer::optimizer_state`] (after the network's weights).
+    pub fn load_optimizer_state(&mut self, bytes: &[u8]) -> Result<(), ModelError> {
+        self.optim = optimizers_from_bytes(bytes, 1)?.remove(0);
+        Ok(())
     }
 
     /// One Adam step on normalised features `[B, 260, T]` and one label per row.

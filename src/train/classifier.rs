@@ -103,6 +103,14 @@ impl Runner for ClassifierRunner {
         module_bytes(self.trainer.classifier.clone().valid())
     }
 
+    fn optimizer_state(&self) -> anyhow::Result<Vec<u8>> {
+        Ok(self.trainer.optimizer_state()?)
+    }
+
+    fn load_optimizer_state(&mut self, bytes: &[u8]) -> anyhow::Result<()> {
+        Ok(self.trainer.load_optimizer_state(bytes)?)
+    }
+
     fn artifacts(&self) -> anyhow::Result<Vec<(&'static str, Vec<u8>)>> {
         let bytes = save_classifier(&self.trainer.config, self.trainer.classifier.clone().valid())?;
         Ok(vec![(BUNDLE, bytes)])

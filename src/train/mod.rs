@@ -24,13 +24,10 @@
 //! `steps` in total, with the run's own settings (`config.json`; a differing `--seed`, `--width`,
 //! `--batch`, `--window` or stage setting is an error). Restored exactly: the network weights
 //! (f32), the step count, the window sampler's generator (the resumed run draws the very batches
-//! a straight run would) and the logs (rows after the checkpoint are dropped). **Not restored:
-//! Adam's moment estimates.** Burn 0.22's `ModuleOptimizer` can serialise its state
-//! (`to_record`/`load_record`, keyed by parameter ids that module records keep), but
-//! [`AeTrainer`] and [`StylizerTrainer`] keep their optimizers private, so a resumed segment
-//! starts with fresh moments (Adam's bias correction makes the first updates full-size steps of
-//! `lr` in the gradient's direction; at `lr = 1e-4` that is a short transient). For the same
-//! reason the trainers' noise generators and Burn's device generator (dropout masks) restart from
+//! a straight run would), Adam's moments and step counts (`optimizer.bin`, written before the
+//! checkpoint and tagged with its step; a checkpoint from before this existed resumes with fresh
+//! moments, with a warning) and the logs (rows after the checkpoint are dropped). Not restored:
+//! the trainers' noise generators and Burn's device generator (dropout masks), which restart from
 //! a seed derived from the run's seed and the step. A resumed run is therefore statistically
 //! equivalent to a straight one, not bit-identical. Progress after the last checkpoint is lost
 //! when a run is interrupted (Ctrl-C included; nothing is saved on a signal).
@@ -541,6 +538,9 @@ pub fn train(opts: &TrainOptions) -> anyhow::Result<TrainSummary> {
         }
     };
 
+    if let Some(ckpt) = &resume_from {
+        restore_optimizer(runner.as_mut(), out, ckpt, &say)?;
+    }
     let mut rng = match &resume_from {
         Some(c) => SamplerRng::from_state(&c.meta.sampler).map_err(anyhow::Error::msg)?,
         None => SamplerRng::new(config.seed ^ SAMPLER_SALT),
@@ -605,13 +605,16 @@ pub fn train(opts: &TrainOptions) -> anyhow::Result<TrainSummary> {
             loss_csv.flush()?;
             eval_csv.flush()?;
             let elapsed = elapsed0 + t_loop.elapsed().as_secs_f64();
+            let mut optimizer = step.to_le_bytes().to_vec();
+            optimizer.extend(runner.optimizer_state()?);
+            rundir::write_atomic(&out.join(rundir::OPTIMIZER), &optimizer)?;
             let ckpt = Checkpoint {
                 meta: CheckpointMeta {
                     stage: config.stage.clone(),
                     step,
                     elapsed_s: elapsed,
                     sampler: rng.state(),
-                    optimizer_state: false,
+                    optimizer_state: true,
                 },
                 weights: runner.weights()?,
             };
@@ -642,6 +645,23 @@ pub fn train(opts: &TrainOptions) -> anyhow::Result<TrainSummary> {
         losses: runner.terms().iter().map(|s| s.to_string()).zip(last_terms).collect(),
         heldout: runner.metrics().iter().map(|s| s.to_string()).zip(last_eval.unwrap_or_default()).collect(),
     })
+}
+
+/// Loads `optimizer.bin` into the runner when it belongs to the checkpoint being resumed.
+fn restore_optimizer(runner: &mut dyn Runner, out: &Path, ckpt: &Checkpoint, say: &dyn Fn(String)) -> anyhow::Result<()> {
+    let path = out.join(rundir::OPTIMIZER);
+    let bytes = if ckpt.meta.optimizer_state { std::fs::read(&path).ok() } else { None };
+    match bytes.as_deref().and_then(|b| b.split_first_chunk::<8>()) {
+        Some((step, state)) if u64::from_le_bytes(*step) == ckpt.meta.step => {
+            runner.load_optimizer_state(state).with_context(|| format!("cannot restore {}", path.display()))?;
+            say(format!("resumed Adam's state of step {}", ckpt.meta.step));
+        }
+        _ => eprintln!(
+            "warning: no optimizer state for step {} (a checkpoint from an older version?): Adam restarts with fresh moments",
+            ckpt.meta.step
+        ),
+    }
+    Ok(())
 }
 
 /// The summary of a run that is already done, from its logs.
@@ -686,6 +706,9 @@ trait Runner {
     fn evaluate(&self) -> Vec<f64>;
     /// Burnpack bytes of the trained networks (f32).
     fn weights(&self) -> anyhow::Result<Vec<u8>>;
+    /// The optimizers' state (see `optimizer.bin`) and its restoration.
+    fn optimizer_state(&self) -> anyhow::Result<Vec<u8>>;
+    fn load_optimizer_state(&mut self, bytes: &[u8]) -> anyhow::Result<()>;
     /// Other files written beside each checkpoint: (file name, bytes).
     fn artifacts(&self) -> anyhow::Result<Vec<(&'static str, Vec<u8>)>> {
         Ok(Vec::new())
@@ -742,6 +765,14 @@ impl Runner for AeRunner {
         let ae = self.trainer.autoencoder.clone().valid();
         let regressor = self.trainer.regressor.clone().valid();
         eval::evaluate_ae(&ae, &regressor, &self.heldout, &self.norm, self.batch, &self.device)
+    }
+
+    fn optimizer_state(&self) -> anyhow::Result<Vec<u8>> {
+        Ok(self.trainer.optimizer_state()?)
+    }
+
+    fn load_optimizer_state(&mut self, bytes: &[u8]) -> anyhow::Result<()> {
+        Ok(self.trainer.load_optimizer_state(bytes)?)
     }
 
     fn weights(&self) -> anyhow::Result<Vec<u8>> {
@@ -815,5 +846,13 @@ impl Runner for StylizerRunner {
 
     fn weights(&self) -> anyhow::Result<Vec<u8>> {
         module_bytes(self.trainer.net.clone().valid())
+    }
+
+    fn optimizer_state(&self) -> anyhow::Result<Vec<u8>> {
+        Ok(self.trainer.optimizer_state()?)
+    }
+
+    fn load_optimizer_state(&mut self, bytes: &[u8]) -> anyhow::Result<()> {
+        Ok(self.trainer.load_optimizer_state(bytes)?)
     }
 }

@@ -27,6 +27,8 @@ pub const RUN_LOG: &str = "run.json";
 pub const NORM: &str = "norm.json";
 pub const CHECKPOINT: &str = "checkpoint.bin";
 pub const AE_COPY: &str = "ae.bin";
+/// Adam's state at the checkpoint's step: the step (u64 LE), then the trainer's optimizer bytes.
+pub const OPTIMIZER: &str = "optimizer.bin";
 pub const LOSS_CSV: &str = "loss.csv";
 pub const EVAL_CSV: &str = "eval.csv";
 
@@ -116,7 +118,8 @@ pub struct CheckpointMeta {
     pub elapsed_s: f64,
     /// Position of the window sampler's generator after `step` steps.
     pub sampler: RngState,
-    /// Always `false` here: Adam's moments are not in the checkpoint (see [`super`]).
+    /// Whether `optimizer.bin` holds Adam's state of this step (`false` in checkpoints written
+    /// before it existed: such a run resumes with fresh moments).
     pub optimizer_state: bool,
 }
 
