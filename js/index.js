@@ -66,12 +66,16 @@ async function fetchWeights(base, settings) {
   } catch (e) {
     throw codedError('BAD_WEIGHTS', `manifest.json: ${e.message}`);
   }
-  const files = { manifest: manifestBytes, norm: await readUrl(new URL(String(manifest.norm ?? 'norm.json'), dir)) };
-  for (const entry of manifest.models ?? []) {
-    if (SETTINGS.includes(entry.setting) && settings.includes(entry.setting)) {
-      files[entry.setting] = await readUrl(new URL(String(entry.file), dir));
-    }
-  }
+  const wanted = (manifest.models ?? []).filter((e) => SETTINGS.includes(e.setting) && settings.includes(e.setting));
+  // The statistics and the bundles are fetched in parallel.
+  const [norm, ...bundles] = await Promise.all([
+    readUrl(new URL(String(manifest.norm ?? 'norm.json'), dir)),
+    ...wanted.map((e) => readUrl(new URL(String(e.file), dir))),
+  ]);
+  const files = { manifest: manifestBytes, norm };
+  wanted.forEach((e, i) => {
+    files[e.setting] = bundles[i];
+  });
   return files;
 }
 
