@@ -31,11 +31,16 @@ async function readUrl(url) {
 
 let engineReady = null;
 
-/** Instantiates the wasm module once per realm (streaming where fetch is used). */
+/** Instantiates the wasm module once per realm (streaming where fetch is used); retried after a failure. */
 function initEngine() {
   engineReady ??= (async () => {
     const url = new URL('./engine_bg.wasm', import.meta.url);
-    await init({ module_or_path: url.protocol === 'file:' ? await readUrl(url) : url });
+    try {
+      await init({ module_or_path: url.protocol === 'file:' ? await readUrl(url) : url });
+    } catch (e) {
+      engineReady = null;
+      throw e.code ? e : codedError('FETCH', `cannot start ${url}: ${e.message}`);
+    }
   })();
   return engineReady;
 }
