@@ -1,11 +1,11 @@
 // The package's JS API (pkg/index.js): loading, importing, every option, outputs, error codes.
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
-import { createServer } from 'node:http';
+import { spawn } from 'node:child_process';
 import { join } from 'node:path';
 import { test } from 'node:test';
 import { Worker } from 'node:worker_threads';
-import { fixture, loadPackage, pkgDir, read } from './helpers.mjs';
+import { fixture, loadPackage, pkgDir, read, serve } from './helpers.mjs';
 
 const { Stylizer, Motion, StylizedMotion } = await loadPackage();
 const s = await Stylizer.load();
@@ -136,23 +136,15 @@ test('webgpu: falls back to the CPU with the reason', async () => {
   assert.equal((await g.stylize(walk, { prior: true, unsupervised: true })).length, 1);
 });
 
-test('weights as bytes, from a folder path, and fetched over HTTP (the browser path)', async () => {
+test('weights as bytes, from a folder path, and fetched over HTTP', async () => {
   const w = (f) => readFileSync(join(pkgDir, 'weights', f));
   const fromBytes = await Stylizer.load({ weights: { manifest: w('manifest.json'), norm: w('norm.json'), supervised: w('supervised.bin') } });
   assert.deepEqual(fromBytes.settings(), ['supervised']);
   const fromPath = await Stylizer.load({ weights: join(pkgDir, 'weights'), settings: ['unsupervised'] });
   assert.deepEqual(fromPath.settings(), ['unsupervised']);
-  const server = createServer((req, res) => {
-    try {
-      res.end(readFileSync(join(pkgDir, decodeURIComponent(new URL(req.url, 'http://x').pathname))));
-    } catch {
-      res.statusCode = 404;
-      res.end();
-    }
-  });
-  await new Promise((r) => server.listen(0, '127.0.0.1', r));
+  const server = await serve(pkgDir);
   try {
-    const base = `http://127.0.0.1:${server.address().port}`;
+    const base = server.base;
     const fetched = await Stylizer.load({ weights: `${base}/weights/` });
     const a = (await fetched.stylize(walk, { label: 'old', seed: 5 }))[0].toBvh();
     assert.equal(a, (await s.stylize(walk, { label: 'old', seed: 5 }))[0].toBvh());
@@ -177,4 +169,26 @@ test('works in a worker thread', async () => {
   });
   await worker.terminate();
   assert.equal(text, (await s.stylize(walk, { prior: true, unsupervised: true, seed: 2 }))[0].toBvh());
+});
+
+test('the browser code path: the package imported from http:, wasm and weights fetched', async () => {
+  // Node's network imports stand in for a browser: import.meta.url is http:, so the wasm is
+  // instantiated from fetch (streaming) and the weights are fetched, as in a page or a worker.
+  const server = await serve(pkgDir);
+  try {
+    const code = `const { Stylizer } = await import('${server.base}/index.js');
+      const s = await Stylizer.load();
+      const [o] = await s.stylize(process.argv[1], { label: 'old', seed: 5 });
+      process.stdout.write(o.toBvh());`;
+    const child = spawn(process.execPath, ['--experimental-network-imports', '--no-warnings', '--input-type=module', '-e', code, walk]);
+    let out = '';
+    let err = '';
+    child.stdout.on('data', (d) => (out += d));
+    child.stderr.on('data', (d) => (err += d));
+    const status = await new Promise((r) => child.on('close', r));
+    assert.equal(status, 0, err);
+    assert.equal(out, (await s.stylize(walk, { label: 'old', seed: 5 }))[0].toBvh());
+  } finally {
+    server.close();
+  }
 });

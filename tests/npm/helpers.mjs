@@ -1,8 +1,9 @@
 // Shared paths and helpers of the npm package tests.
 import { execFileSync } from 'node:child_process';
+import { createServer } from 'node:http';
 import { mkdtempSync, readFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
-import { join, resolve } from 'node:path';
+import { extname, join, resolve } from 'node:path';
 import { fileURLToPath, pathToFileURL } from 'node:url';
 
 export const root = fileURLToPath(new URL('../../', import.meta.url));
@@ -21,4 +22,23 @@ export const releaseDir = join(resolve(root, process.env.CARGO_TARGET_DIR ?? 'ta
 export function cli(args) {
   const bin = process.env.MOTION_STYLIZER_BIN ?? join(releaseDir, 'motion-stylizer');
   return execFileSync(bin, args, { cwd: root, encoding: 'utf8', stdio: ['ignore', 'pipe', 'pipe'] });
+}
+
+const TYPES = { '.js': 'text/javascript', '.wasm': 'application/wasm', '.json': 'application/json' };
+
+/** Serves `dir` over HTTP on 127.0.0.1 (with the MIME types browsers need); { base, close }. */
+export async function serve(dir) {
+  const server = createServer((req, res) => {
+    const path = decodeURIComponent(new URL(req.url, 'http://x').pathname);
+    try {
+      const body = readFileSync(join(dir, path));
+      res.setHeader('content-type', TYPES[extname(path)] ?? 'application/octet-stream');
+      res.end(body);
+    } catch {
+      res.statusCode = 404;
+      res.end();
+    }
+  });
+  await new Promise((r) => server.listen(0, '127.0.0.1', r));
+  return { base: `http://127.0.0.1:${server.address().port}`, close: () => server.close() };
 }
