@@ -1,0 +1,440 @@
+// The page: wires the controls, the worker (engine.js), the views, playback, share links and files.
+
+import { fillSelect, readControls, requestOf, styleName, syncControls, usesReference, writeControls } from './controls.js';
+import { Engine } from './engine.js';
+import { Player } from './player.js';
+import { SAMPLES, fetchSample, sampleById } from './samples.js';
+import { MAX_LINK_CHARS, decodeState, encodeState, hasState } from './share.js';
+import { Thumbs } from './thumbs.js';
+import { Views, toDisplay } from './views.js';
+
+const el = (id) => document.getElementById(id);
+const MAX_FILE_BYTES = 32 * 1024 * 1024;
+const DEFAULT = { content: 'walk-normal', ref: 'walk-elderly', label: 'old' };
+
+const engine = new Engine();
+const views = new Views({ front: el('view-front'), side: el('view-side'), top: el('view-top') });
+const thumbs = new Thumbs(el('thumbs-box'), el('thumbs'), (i) => pickResult(i));
+const player = new Player((time) => showTime(time));
+
+/** What the page holds: the two motions (with where they came from), the results and what made them. */
+const state = {
+  styles: [],
+  content: null, // {source: {sample} | {bvh, name}, name, display, report}
+  ref: null,
+  results: [], // [{bvh, display}]
+  pick: 0,
+  made: null, // {controls, request, content, ref}: what produced `results`
+  busy: 0,
+  rerun: false,
+  timings: {},
+};
+window.__demo = state; // for the end-to-end tests and the curious (read-only use)
+
+// ---------- status, progress, errors ----------
+
+function status(text) {
+  el('status').textContent = text;
+}
+
+function progress(fraction) {
+  const box = el('progress');
+  box.hidden = fraction == null;
+  box.classList.toggle('busy', fraction === 'busy');
+  box.querySelector('.bar').style.width = typeof fraction === 'number' ? `${Math.round(fraction * 100)}%` : '';
+}
+
+function showError(what, e) {
+  const box = el('error');
+  if (!e) {
+    box.hidden = true;
+    box.textContent = '';
+    return;
+  }
+  const code = e.code ? `${e.code}: ` : '';
+  const line = e.line ? ` (line ${e.line})` : '';
+  box.textContent = `${what} — ${code}${e.message}${line}`;
+  box.hidden = false;
+}
+
+function setBusy(delta) {
+  state.busy += delta;
+  document.body.dataset.busy = String(state.busy > 0);
+  el('stylize').disabled = state.busy > 0 || !state.content || !state.styles.length;
+  el('download').disabled = state.busy > 0 || !state.results.length;
+  el('share').disabled = state.busy > 0 || !state.results.length;
+}
+
+// ---------- playback ----------
+
+function showTime(time) {
+  views.draw(time);
+  thumbs.draw(time);
+  const fps = 30;
+  el('scrub').value = String(Math.round(time * fps));
+  el('frame-label').textContent = `${Math.round(time * fps)} / ${Math.max(0, Math.round(player.duration * fps) - 1)}`;
+}
+
+function updateDuration() {
+  const d = (m) => (m ? m.frames / m.fps : 0);
+  const duration = Math.max(d(state.content?.display), d(state.results[state.pick]?.display));
+  el('scrub').max = String(Math.max(0, Math.round(duration * 30) - 1));
+  player.setDuration(duration);
+}
+
+player.onState = (playing) => {
+  el('play').textContent = playing ? 'Pause' : 'Play';
+  el('play').setAttribute('aria-pressed', String(playing));
+};
+el('play').addEventListener('click', () => player.setPlaying(!player.playing));
+el('scrub').addEventListener('input', () => {
+  player.setPlaying(false);
+  player.seek(Number(el('scrub').value) / 30);
+});
+el('speed').addEventListener('change', () => (player.speed = Number(el('speed').value)));
+el('loop').addEventListener('change', () => (player.loop = el('loop').checked));
+const viewOptions = () => ({ layout: el('layout').value, showContent: el('show-content').checked, showResult: el('show-result').checked });
+for (const id of ['layout', 'show-content', 'show-result']) el(id).addEventListener('change', () => views.set(viewOptions()));
+
+document.addEventListener('keydown', (e) => {
+  const t = e.target;
+  if (t instanceof HTMLInputElement || t instanceof HTMLSelectElement || t instanceof HTMLTextAreaElement || e.ctrlKey || e.metaKey || e.altKey) return;
+  if ((e.key === ' ' && !(t instanceof HTMLButtonElement)) || e.key === 'k') {
+    e.preventDefault();
+    player.setPlaying(!player.playing);
+  } else if (e.key === ',' || e.key === '.') {
+    player.setPlaying(false);
+    player.seek(player.time + (e.key === '.' ? 1 : -1) / 30);
+  }
+});
+
+// ---------- motions ----------
+
+function describe(m) {
+  const d = m.display;
+  const seconds = (d.frames / d.fps).toFixed(1);
+  const missing = m.report.missing?.length ? ` · unmatched: ${m.report.missing.join(', ')}` : '';
+  return `${m.name} · ${m.rig} rig, ${d.parents.length} joints · ${d.frames} frames at ${Math.round(d.fps)} fps (${seconds} s)${missing}`;
+}
+
+/** Imports BVH text into the worker's slot ('content' or 'ref'); returns the motion, or null after showing the error. */
+async function loadMotion(slot, text, source, name) {
+  setBusy(1);
+  status(`Reading ${name}…`);
+  progress('busy');
+  try {
+    const r = await engine.call('import', { slot, text });
+    const motion = { source, name, rig: r.rig, report: r.report, display: toDisplay(r.display, r.report) };
+    state[slot] = motion;
+    showError(null);
+    if (slot === 'content') {
+      state.results = [];
+      state.made = null;
+      thumbs.show([], null, 0);
+      views.set({ content: motion.display, result: null, ...viewOptions() });
+      updateDuration();
+      el('content-info').textContent = describe(motion);
+      el('share-url').hidden = true;
+      el('share-info').textContent = '';
+    } else {
+      el('ref-info').textContent = describe(motion);
+    }
+    status(`Loaded ${name}.`);
+    return motion;
+  } catch (e) {
+    showError(`Could not load ${name}`, e);
+    status(slot === 'content' && state.content ? `Still showing ${state.content.name}.` : 'Ready.');
+    return null;
+  } finally {
+    progress(null);
+    setBusy(-1);
+  }
+}
+
+async function loadSample(slot, id) {
+  const sample = sampleById(id);
+  if (!sample) return null;
+  try {
+    const text = await fetchSample(sample);
+    const m = await loadMotion(slot, text, { sample: id }, sample.file);
+    if (m && slot === 'ref' && sample.label && state.styles.includes(sample.label)) el('ref-label').value = sample.label;
+    if (m) el(slot === 'content' ? 'content-sample' : 'ref-sample').value = id;
+    return m;
+  } catch (e) {
+    showError(`Could not fetch ${sample.file}`, e);
+    return null;
+  }
+}
+
+async function loadFile(slot, file) {
+  if (!file) return null;
+  if (file.size > MAX_FILE_BYTES) {
+    showError(`Could not load ${file.name}`, { code: 'TOO_LONG', message: `the file is ${(file.size / 1048576).toFixed(1)} MB; this page reads BVH files up to 32 MB` });
+    return null;
+  }
+  const text = await file.text();
+  const m = await loadMotion(slot, text, { bvh: text, name: file.name }, file.name);
+  if (m) {
+    const select = el(slot === 'content' ? 'content-sample' : 'ref-sample');
+    const option = select.querySelector('option[value=""]') ?? select.appendChild(document.createElement('option'));
+    option.value = '';
+    option.textContent = `uploaded: ${file.name}`;
+    select.value = '';
+  }
+  return m;
+}
+
+el('content-file').addEventListener('change', (e) => {
+  loadFile('content', e.target.files[0]);
+  e.target.value = '';
+});
+el('ref-file').addEventListener('change', (e) => {
+  loadFile('ref', e.target.files[0]);
+  e.target.value = '';
+});
+el('content-sample').addEventListener('change', (e) => e.target.value && loadSample('content', e.target.value));
+el('ref-sample').addEventListener('change', (e) => e.target.value && loadSample('ref', e.target.value));
+
+// Drag and drop anywhere on the page: the content motion.
+let dragDepth = 0;
+document.addEventListener('dragenter', (e) => {
+  if (![...(e.dataTransfer?.types ?? [])].includes('Files')) return;
+  dragDepth++;
+  document.body.classList.add('dragging');
+});
+document.addEventListener('dragleave', () => {
+  if (--dragDepth <= 0) {
+    dragDepth = 0;
+    document.body.classList.remove('dragging');
+  }
+});
+document.addEventListener('dragover', (e) => e.preventDefault());
+document.addEventListener('drop', (e) => {
+  e.preventDefault();
+  dragDepth = 0;
+  document.body.classList.remove('dragging');
+  const file = e.dataTransfer?.files?.[0];
+  if (file) loadFile('content', file);
+});
+
+// ---------- stylizing ----------
+
+function pickResult(i) {
+  state.pick = Math.max(0, Math.min(state.results.length - 1, i));
+  thumbs.select(state.pick);
+  views.set({ result: state.results[state.pick]?.display ?? null });
+  updateDuration();
+}
+
+async function stylize() {
+  if (!state.content) return;
+  if (state.busy) {
+    state.rerun = true;
+    return;
+  }
+  const controls = readControls();
+  if (usesReference(controls) && !state.ref) {
+    showError('Cannot stylize', { code: 'BAD_REQUEST', message: 'load a reference motion first' });
+    return;
+  }
+  const request = requestOf(controls);
+  setBusy(1);
+  progress('busy');
+  const n = request.samples;
+  status(`Stylizing ${state.content.name}${n > 1 ? ` (${n} samples)` : ''}…`);
+  const started = performance.now();
+  try {
+    const { outputs, ms } = await engine.call('stylize', request);
+    const report = state.content.report;
+    state.results = outputs.map((o) => ({ bvh: o.bvh, display: toDisplay(o, report) }));
+    state.made = { controls, request, content: state.content, ref: usesReference(controls) ? state.ref : null };
+    state.timings.lastStylizeMs = ms;
+    state.timings.lastRoundTripMs = performance.now() - started;
+    state.timings.firstResultMs ??= performance.now();
+    showError(null);
+    thumbs.show(state.results.map((r) => r.display), state.content.display, 0);
+    pickResult(Math.min(state.pendingPick ?? 0, state.results.length - 1));
+    thumbs.select(state.pick);
+    state.pendingPick = null;
+    status(`Stylized as “${styleName(controls)}” in ${Math.round(ms)} ms (${state.results[0].display.frames} frames).`);
+    document.body.dataset.results = String((Number(document.body.dataset.results) || 0) + 1);
+  } catch (e) {
+    showError('Stylization failed', e);
+    status('Ready.');
+  } finally {
+    progress(null);
+    setBusy(-1);
+  }
+  if (state.rerun) {
+    state.rerun = false;
+    stylize();
+  }
+}
+
+el('stylize').addEventListener('click', stylize);
+document.querySelector('.panel').addEventListener('change', syncControls);
+el('mix-t').addEventListener('input', syncControls);
+el('temperature').addEventListener('input', syncControls);
+// The mix slider restyles as it is released (one request at a time; the latest position wins).
+el('mix-t').addEventListener('change', () => state.made && stylize());
+
+// ---------- download, share ----------
+
+function saveText(text, name) {
+  const url = URL.createObjectURL(new Blob([text], { type: 'text/plain' }));
+  const a = document.createElement('a');
+  a.href = url;
+  a.download = name;
+  document.body.append(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(url), 10_000);
+}
+
+el('download').addEventListener('click', async () => {
+  const made = state.made;
+  if (!made || !state.results.length) return;
+  const base = `${made.content.name.replace(/\.bvh$/i, '')}.${styleName(made.controls)}${state.results.length > 1 ? `.${state.pick + 1}` : ''}`;
+  if (el('rig').value === 'content') {
+    saveText(state.results[state.pick].bvh, `${base}.bvh`);
+    return;
+  }
+  // The canonical rig: the same request again (same seed, same bits) written on the canonical skeleton.
+  setBusy(1);
+  progress('busy');
+  status('Writing the canonical-rig BVH…');
+  try {
+    const { outputs } = await engine.call('stylize', { ...made.request, rig: 'canonical', only: state.pick });
+    saveText(outputs[0].bvh, `${base}.canonical.bvh`);
+    status('Downloaded.');
+  } catch (e) {
+    showError('Download failed', e);
+  } finally {
+    progress(null);
+    setBusy(-1);
+  }
+});
+
+el('share').addEventListener('click', async () => {
+  const made = state.made;
+  if (!made) return;
+  const motionRef = (m) => m && (m.source.sample ? { sample: m.source.sample } : { bvh: m.source.bvh, name: m.source.name });
+  const payload = { ...made.controls, rig: el('rig').value, pick: state.pick, content: motionRef(made.content), ref: motionRef(made.ref) };
+  const { fragment, chars } = await encodeState(payload);
+  const input = el('share-url');
+  if (!fragment) {
+    input.hidden = true;
+    el('share-info').textContent = `This motion is too large to share in a link: ${Math.round(chars / 1000)} kB once compressed, links hold ${MAX_LINK_CHARS / 1000} kB. Use a built-in sample or a shorter clip.`;
+    return;
+  }
+  const url = `${location.origin}${location.pathname}${fragment}`;
+  history.replaceState(null, '', fragment);
+  input.value = url;
+  input.hidden = false;
+  input.select();
+  try {
+    await navigator.clipboard.writeText(url);
+    el('share-info').textContent = `Link copied (${Math.round(url.length / 100) / 10} kB). Opening it reproduces this result.`;
+  } catch {
+    el('share-info').textContent = 'Copy the link above (the clipboard is not available here).';
+  }
+});
+
+/** Applies a share link's state: motions, controls, then stylizes. */
+async function openShared(hash) {
+  let shared;
+  try {
+    shared = await decodeState(hash, SAMPLES.map((s) => s.id));
+    for (const l of [shared.label, shared.refLabel, shared.mixA.label, shared.mixB.label]) {
+      if (!state.styles.includes(l)) throw new Error(`unknown style label "${l}"`);
+    }
+  } catch (e) {
+    showError('This share link cannot be opened', { code: 'BAD_LINK', message: e.message });
+    return false;
+  }
+  const load = (slot, ref) => (ref.sample ? loadSample(slot, ref.sample) : loadMotion(slot, ref.bvh, ref, ref.name).then((m) => m && markUploaded(slot, ref.name) && m));
+  if (!(await load('content', shared.content))) return false;
+  if (shared.ref && !(await load('ref', shared.ref))) return false;
+  writeControls(shared);
+  state.pendingPick = shared.pick;
+  await stylize();
+  return true;
+}
+
+function markUploaded(slot, name) {
+  const select = el(slot === 'content' ? 'content-sample' : 'ref-sample');
+  const option = select.querySelector('option[value=""]') ?? select.appendChild(document.createElement('option'));
+  option.value = '';
+  option.textContent = `shared: ${name}`;
+  select.value = '';
+  return true;
+}
+
+window.addEventListener('hashchange', () => hasState(location.hash) && state.styles.length && openShared(location.hash));
+
+// ---------- engine ----------
+
+async function loadEngine(backend) {
+  setBusy(1);
+  const t0 = performance.now();
+  try {
+    const info = await engine.call('load', { backend }, (p) => {
+      if (p.stage === 'weights' && p.total) {
+        status(`Downloading the model: ${(p.loaded / 1048576).toFixed(1)} of ${(p.total / 1048576).toFixed(1)} MB…`);
+        progress(p.loaded / p.total);
+      } else if (p.stage === 'compile') {
+        status('Starting the engine…');
+        progress('busy');
+      }
+    });
+    state.styles = info.styles;
+    state.timings.load = { ...info, roundTripMs: performance.now() - t0 };
+    const gpu = 'gpu' in navigator ? 'this browser has WebGPU' : 'this browser has no WebGPU';
+    el('backend-info').textContent =
+      backend === 'webgpu'
+        ? `Running on the ${info.backend.toUpperCase()} — WebGPU fallback: ${info.fallbackReason ?? 'none'} (${gpu}).`
+        : `Running on the ${info.backend.toUpperCase()} (Burn flex, wasm SIMD, in a worker); model ready in ${Math.round(info.totalMs)} ms.`;
+    showError(null);
+    return info;
+  } catch (e) {
+    showError('The model could not be loaded', e);
+    status('The model could not be loaded.');
+    return null;
+  } finally {
+    progress(null);
+    setBusy(-1);
+  }
+}
+
+el('webgpu').addEventListener('change', async (e) => {
+  await loadEngine(e.target.checked ? 'webgpu' : 'cpu');
+  status('Ready.');
+});
+
+async function boot() {
+  const samples = SAMPLES.map((s) => [s.id, s.title]);
+  fillSelect(el('content-sample'), samples, DEFAULT.content);
+  fillSelect(el('ref-sample'), samples, DEFAULT.ref);
+  syncControls();
+  views.set(viewOptions());
+  if (!(await loadEngine('cpu'))) return;
+  const labels = state.styles.map((s) => [s, s]);
+  for (const id of ['label', 'ref-label', 'mix-a-label', 'mix-b-label']) fillSelect(el(id), labels);
+  el('label').value = DEFAULT.label;
+  el('mix-a-label').value = DEFAULT.label;
+  el('ref-label').value = 'old';
+  syncControls();
+  if (hasState(location.hash) && (await openShared(location.hash))) return finishBoot();
+  await loadSample('content', DEFAULT.content);
+  await loadSample('ref', DEFAULT.ref);
+  await stylize();
+  finishBoot();
+}
+
+function finishBoot() {
+  const t = state.timings;
+  if (t.firstResultMs) t.firstResultMs = Math.round(t.firstResultMs);
+  document.body.dataset.ready = 'true';
+}
+
+boot();
