@@ -25,9 +25,11 @@ demo:
 	./target/release/motion-stylizer stylize tests/fixtures/bandai/dataset-2_walk_normal_001_f120.bvh \
 	  --style-motion tests/fixtures/bandai/dataset-2_walk_elderly_001_f120.bvh --unsupervised -o $(DEMO_OUT)/walk_normal.like_elderly.bvh
 	@echo "Demo outputs in $(DEMO_OUT)/ (open the .bvh files in any BVH viewer)"
+	$(MAKE) --no-print-directory www
+	node scripts/serve-www.mjs out/www --port $(WWW_PORT)
 
 ## test: every test — Rust unit/integration tests, then the three.js compatibility check in Node, then the wasm package
-test: test-rust test-js test-wasm
+test: test-rust test-js test-wasm test-www
 
 test-rust:
 	$(CARGO) test --release
@@ -52,6 +54,28 @@ test-wasm: setup-wasm pkg
 	$(CARGO) test --release --target wasm32-unknown-unknown --no-default-features --features model,wasm,ndarray --test wasm_facade -- ndarray
 	$(CARGO) build --release --bin motion-stylizer
 	node --test tests/npm/
+
+## www: build pkg/ and assemble the browser demo into out/www/ (static files: the page, the package, the sample clips)
+.PHONY: www serve-www test-www www-screenshots
+WWW_PORT ?= 8080
+www: pkg
+	scripts/build-www.sh out/www
+
+## serve-www: serve out/www/ on localhost (what `make demo` ends with; WWW_PORT, default 8080, or the next free port)
+serve-www: www
+	node scripts/serve-www.mjs out/www --port $(WWW_PORT)
+
+## test-www: the browser demo end to end in headless Chromium (Debian's chromium: scripts/setup-browser.sh; playwright-core)
+test-www: www
+	scripts/setup-browser.sh >/dev/null
+	cd tests/www && npm ci --no-audit --no-fund
+	node --test tests/www/
+
+## www-screenshots: the README's screenshots of the demo (www/screenshots/, laptop and phone widths)
+www-screenshots: www
+	scripts/setup-browser.sh >/dev/null
+	cd tests/www && npm ci --no-audit --no-fund
+	node tests/www/screenshots.mjs
 
 ## bench-wasm: wasm (Node, one thread) vs native for one 160-frame stylization and for 10 samples; load time
 bench-wasm: pkg

@@ -340,6 +340,8 @@ el('share').addEventListener('click', async () => {
   }
 });
 
+let linkError = null;
+
 /** Applies a share link's state: motions, controls, then stylizes. */
 async function openShared(hash) {
   let shared;
@@ -349,7 +351,8 @@ async function openShared(hash) {
       if (!state.styles.includes(l)) throw new Error(`unknown style label "${l}"`);
     }
   } catch (e) {
-    showError('This share link cannot be opened', { code: 'BAD_LINK', message: e.message });
+    linkError = { code: 'BAD_LINK', message: e.message };
+    showError('This share link cannot be opened', linkError);
     return false;
   }
   const load = (slot, ref) => (ref.sample ? loadSample(slot, ref.sample) : loadMotion(slot, ref.bvh, ref, ref.name).then((m) => m && markUploaded(slot, ref.name) && m));
@@ -428,6 +431,8 @@ async function boot() {
   await loadSample('content', DEFAULT.content);
   await loadSample('ref', DEFAULT.ref);
   await stylize();
+  // A link that could not be opened stays reported above the defaults loaded instead.
+  if (linkError) showError('This share link cannot be opened', linkError);
   finishBoot();
 }
 

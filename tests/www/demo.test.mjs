@@ -1,0 +1,243 @@
+// End-to-end tests of the browser demo in real headless Chromium (Debian's chromium via
+// playwright-core's executablePath; scripts/setup-browser.sh). `make test-www` builds out/www/
+// first (make www) and runs these with node --test.
+
+import assert from 'node:assert/strict';
+import { execFileSync } from 'node:child_process';
+import { readFileSync } from 'node:fs';
+import { after, before, test } from 'node:test';
+import { fileURLToPath, pathToFileURL } from 'node:url';
+import { chromium } from 'playwright-core';
+import { startServer } from '../../scripts/serve-www.mjs';
+
+const root = fileURLToPath(new URL('../../', import.meta.url));
+const site = process.env.WWW_DIR ?? `${root}out/www`;
+const fixture = (rel) => `${root}tests/fixtures/${rel}`;
+const executablePath = process.env.CHROMIUM ?? execFileSync(`${root}scripts/setup-browser.sh`, { encoding: 'utf8' }).trim();
+
+let server;
+let browser;
+const problems = []; // console errors and uncaught page errors, from every page
+
+before(async () => {
+  server = await startServer(site);
+  browser = await chromium.launch({ executablePath, args: ['--no-sandbox'] });
+});
+
+after(async () => {
+  await browser?.close();
+  server?.close();
+});
+
+async function openPage(url = server.url, viewport = { width: 1366, height: 900 }) {
+  const context = await browser.newContext({ viewport, acceptDownloads: true });
+  await context.grantPermissions(['clipboard-read', 'clipboard-write'], { origin: new URL(server.url).origin });
+  const page = await context.newPage();
+  page.on('console', (m) => m.type() === 'error' && problems.push(`console: ${m.text()}`));
+  page.on('pageerror', (e) => problems.push(`pageerror: ${e.message}`));
+  await page.goto(url);
+  await page.waitForSelector('body[data-ready=true]', { timeout: 120_000 });
+  return page;
+}
+
+const results = (page) => page.evaluate(() => Number(document.body.dataset.results) || 0);
+
+/** Clicks Stylize and waits for the next result. */
+async function stylize(page) {
+  const n = await results(page);
+  await page.click('#stylize');
+  await page.waitForFunction((k) => Number(document.body.dataset.results) > k && document.body.dataset.busy === 'false', n, { timeout: 60_000 });
+}
+
+async function download(page) {
+  const [file] = await Promise.all([page.waitForEvent('download'), page.click('#download')]);
+  return { name: file.suggestedFilename(), text: readFileSync(await file.path(), 'utf8') };
+}
+
+/** The header's frame count and the number of motion rows of a BVH text. */
+function bvhShape(text) {
+  assert.match(text, /^HIERARCHY\r?\nROOT /);
+  const motion = text.slice(text.search(/^MOTION\r?$/m));
+  const frames = Number(/^Frames:\s*(\d+)/m.exec(motion)[1]);
+  const rows = motion.split(/\r?\n/).slice(3).filter((l) => l.trim() !== '').length;
+  return { frames, rows, joints: (text.match(/^\s*(ROOT|JOINT) /gm) ?? []).length };
+}
+
+test('loads, stylizes the default sample, and shows the first-stylization latency', async () => {
+  const page = await openPage();
+  const timings = await page.evaluate(() => window.__demo.timings);
+  const load = timings.load;
+  console.log(
+    `# first stylization ready ${timings.firstResultMs} ms after navigation (weights fetched in ${Math.round(load.fetchMs)} ms, ` +
+      `wasm start + weights load ${Math.round(load.loadMs)} ms, first stylize ${Math.round(timings.lastStylizeMs)} ms)`,
+  );
+  assert.equal(await page.isVisible('#error'), false);
+  assert.match(await page.textContent('#status'), /Stylized as “old”/);
+  assert.equal((await page.$$('#label option')).length, 16);
+  await page.context().close();
+});
+
+let uploadedBvh;
+let shareUrl;
+
+test('upload a fixture, stylize by label, views move, download a BVH that parses, share link reproduces it', async () => {
+  const page = await openPage();
+  await page.setInputFiles('#content-file', fixture('foreign/m21_walk.bvh'));
+  await page.waitForFunction(() => document.getElementById('content-info').textContent.includes('m21_walk.bvh'));
+  assert.match(await page.textContent('#content-info'), /m21 rig, 21 joints · 162 frames at 60 fps/);
+  await page.selectOption('#label', 'proud');
+  await page.fill('#seed', '5');
+  await stylize(page);
+  assert.match(await page.textContent('#status'), /Stylized as “proud”/);
+
+  // The views change between frames (pixels differ), in all three views.
+  await page.click('#play'); // pause
+  const shots = async () => Promise.all(['#view-front', '#view-side', '#view-top'].map((s) => page.locator(s).screenshot()));
+  await page.locator('#scrub').fill('0');
+  const first = await shots();
+  await page.locator('#scrub').fill('30');
+  const later = await shots();
+  first.forEach((shot, i) => assert.notDeepEqual(shot, later[i], `view ${i} did not change between frames 0 and 30`));
+  assert.equal(await page.textContent('#frame-label'), '30 / 80');
+
+  // Download on the uploaded rig: a BVH with the m21 skeleton and one row per frame, which the package imports.
+  const { name, text } = await download(page);
+  assert.equal(name, 'm21_walk.proud.bvh');
+  const shape = bvhShape(text);
+  assert.equal(shape.joints, 21);
+  assert.equal(shape.rows, shape.frames);
+  assert.ok(shape.frames >= 80, `${shape.frames} frames`);
+  const { Stylizer } = await import(pathToFileURL(`${site}/pkg/index.js`));
+  const s = await Stylizer.load({ settings: ['supervised'] });
+  assert.equal(s.importBvh(text).rig, 'm21');
+  uploadedBvh = text;
+
+  // The canonical rig: 21 canonical joints under joint names the canonical rig uses.
+  await page.selectOption('#rig', 'canonical');
+  const canonical = await download(page);
+  assert.equal(canonical.name, 'm21_walk.proud.canonical.bvh');
+  assert.equal(bvhShape(canonical.text).joints, 21);
+  assert.match(canonical.text, /ROOT Hips/);
+  assert.equal(s.importBvh(canonical.text).frames, s.importBvh(text).frames);
+  await page.selectOption('#rig', 'content');
+
+  // Share link: copied to the clipboard, opened in a new page, same BVH bytes.
+  await page.click('#share');
+  await page.waitForFunction(() => document.getElementById('share-info').textContent.startsWith('Link copied'));
+  shareUrl = await page.evaluate(() => navigator.clipboard.readText());
+  assert.equal(shareUrl, await page.inputValue('#share-url'));
+  assert.match(shareUrl, /#s=[A-Za-z0-9_-]+$/);
+  const other = await openPage(shareUrl);
+  assert.match(await other.textContent('#content-info'), /m21_walk\.bvh/);
+  assert.equal(await other.inputValue('#label'), 'proud');
+  assert.equal(await other.inputValue('#seed'), '5');
+  const again = await download(other);
+  assert.equal(again.text, uploadedBvh);
+  await other.context().close();
+  await page.context().close();
+});
+
+test('a malformed file shows an error and the page keeps working', async () => {
+  const page = await openPage();
+  for (const bad of ['missing_close_brace.bvh', 'nan_value.bvh', 'not_utf8.bvh', 'empty.bvh', 'frames_absurd.bvh']) {
+    await page.setInputFiles('#content-file', `${root}tests/malformed/${bad}`);
+    await page.waitForSelector('#error:not([hidden])');
+    const message = await page.textContent('#error');
+    assert.match(message, new RegExp(`Could not load ${bad.replace('.', '\\.')} — [A-Z_]+: `), message);
+    await page.evaluate(() => (document.getElementById('error').hidden = true));
+  }
+  await page.setInputFiles('#content-file', `${root}tests/malformed/missing_close_brace.bvh`);
+  await page.waitForSelector('#error:not([hidden])');
+  assert.match(await page.textContent('#error'), /BVH_PARSE: .*\(line \d+\)/);
+  // A rig the importer cannot match (two joints).
+  await page.setInputFiles('#content-file', fixture('small.bvh'));
+  await page.waitForFunction(() => /RIG_/.test(document.getElementById('error').textContent));
+  // The previous content stays and still stylizes.
+  assert.match(await page.textContent('#content-info'), /dataset-2_walk_normal_001_f120\.bvh/);
+  await stylize(page);
+  assert.equal(await page.isVisible('#error'), false);
+  await page.context().close();
+});
+
+test('modes: reference motion, prior with N samples as thumbnails, mix slider; WebGPU toggle shows the fallback', async () => {
+  const page = await openPage();
+  // Reference motion (supervised, the reference's label) from a sample.
+  await page.check('input[name=mode][value=motion]');
+  await page.selectOption('#ref-sample', 'walk-tired');
+  await page.waitForFunction(() => document.getElementById('ref-info').textContent.includes('walk_tired'));
+  assert.equal(await page.inputValue('#ref-label'), 'tired');
+  await stylize(page);
+  assert.match(await page.textContent('#status'), /“tired”/);
+
+  // Unsupervised prior, 3 samples: three thumbnails, picking one changes the result.
+  await page.check('input[name=model][value=unsupervised]');
+  assert.equal(await page.isDisabled('input[name=mode][value=label]'), true);
+  await page.check('input[name=mode][value=prior]');
+  await page.fill('#samples', '3');
+  await stylize(page);
+  assert.equal(await page.locator('#thumbs button').count(), 3);
+  const before = await page.evaluate(() => window.__demo.results[window.__demo.pick].bvh);
+  await page.click('#thumbs button:nth-child(3)');
+  assert.equal(await page.getAttribute('#thumbs button:nth-child(3)', 'aria-pressed'), 'true');
+  const picked = await page.evaluate(() => window.__demo.results[window.__demo.pick].bvh);
+  assert.notEqual(picked, before);
+  const { name } = await download(page);
+  assert.match(name, /\.prior\.3\.bvh$/);
+
+  // Mix: prior (A) to the reference (B); moving the slider restyles.
+  await page.fill('#samples', '1');
+  await page.check('input[name=mode][value=mix]');
+  await page.selectOption('#mix-a-kind', 'prior');
+  await page.selectOption('#mix-b-kind', 'motion');
+  await page.locator('#mix-t').fill('0');
+  await stylize(page);
+  const a = await page.evaluate(() => window.__demo.results[0].bvh);
+  const n = await results(page);
+  await page.locator('#mix-t').fill('1');
+  await page.locator('#mix-t').dispatchEvent('change');
+  await page.waitForFunction((k) => Number(document.body.dataset.results) > k, n);
+  assert.notEqual(await page.evaluate(() => window.__demo.results[0].bvh), a);
+
+  // WebGPU: this build has none; the page says it runs on the CPU and why.
+  await page.check('#webgpu');
+  await page.waitForFunction(() => document.getElementById('backend-info').textContent.includes('WebGPU fallback'));
+  assert.match(await page.textContent('#backend-info'), /this build has no WebGPU backend/);
+  await stylize(page);
+  await page.context().close();
+});
+
+test('damaged and hostile share links are refused with a message, never run as HTML', async () => {
+  for (const hash of ['#s=!!!', '#s=AAAA', `#s=${'A'.repeat(130_000)}`]) {
+    const page = await openPage(`${server.url}${hash}`);
+    await page.waitForSelector('#error:not([hidden])');
+    assert.match(await page.textContent('#error'), /This share link cannot be opened — BAD_LINK: /);
+    assert.match(await page.textContent('#status'), /Stylized as/); // it still loads the default sample
+    await page.context().close();
+  }
+  // A well-formed link whose fields are hostile: markup in a label is refused as an unknown label.
+  const packed = await deflate(JSON.stringify({ v: 1, content: { sample: 'walk-normal' }, mode: 'label', label: '<img src=x onerror=alert(1)>' }));
+  const page = await openPage(`${server.url}#s=${packed}`);
+  await page.waitForSelector('#error:not([hidden])');
+  assert.match(await page.textContent('#error'), /unknown style label "<img src=x onerror=alert\(1\)>"/);
+  assert.equal(await page.locator('img').count(), 0);
+  await page.context().close();
+});
+
+async function deflate(text) {
+  const { deflateRawSync } = await import('node:zlib');
+  return deflateRawSync(Buffer.from(text)).toString('base64url');
+}
+
+test('phone width: no horizontal scrolling, controls reachable', async () => {
+  const page = await openPage(server.url, { width: 390, height: 844 });
+  const overflow = await page.evaluate(() => document.documentElement.scrollWidth - window.innerWidth);
+  assert.ok(overflow <= 0, `${overflow} px of horizontal overflow`);
+  await page.focus('#stylize');
+  await page.keyboard.press('Enter');
+  await page.waitForFunction(() => Number(document.body.dataset.results) >= 2);
+  await page.context().close();
+});
+
+test('no console errors on any page', () => {
+  assert.deepEqual(problems, []);
+});
