@@ -181,8 +181,19 @@ test('modes: reference motion, prior with N samples as thumbnails, mix slider; W
   assert.equal(await page.getAttribute('#thumbs button:nth-child(3)', 'aria-pressed'), 'true');
   const picked = await page.evaluate(() => window.__demo.results[window.__demo.pick].bvh);
   assert.notEqual(picked, before);
-  const { name } = await download(page);
+  const { name, text: pickedText } = await download(page);
   assert.match(name, /\.prior\.3\.bvh$/);
+  assert.equal(pickedText, picked);
+  // Its share link (a sample's id, no motion inside) opens on the same pick with the same bytes.
+  await page.click('#share');
+  await page.waitForFunction(() => document.getElementById('share-info').textContent.startsWith('Link copied'));
+  const link = await page.inputValue('#share-url');
+  assert.ok(link.length < 1000, `${link.length} characters`);
+  const other = await openPage(link);
+  assert.equal(await other.locator('#thumbs button').count(), 3);
+  assert.equal(await other.getAttribute('#thumbs button:nth-child(3)', 'aria-pressed'), 'true');
+  assert.equal((await download(other)).text, picked);
+  await other.context().close();
 
   // Mix: prior (A) to the reference (B); moving the slider restyles.
   await page.fill('#samples', '1');
@@ -206,6 +217,48 @@ test('modes: reference motion, prior with N samples as thumbnails, mix slider; W
   await page.context().close();
 });
 
+test('drag and drop loads a file; a motion too large for a link says so', async () => {
+  const page = await openPage();
+  const text = readFileSync(fixture('foreign/cmu31_xia_neutral_16_000.bvh'), 'utf8');
+  await page.evaluate((bvh) => {
+    const data = new DataTransfer();
+    data.items.add(new File([bvh], 'dropped_cmu31.bvh', { type: 'text/plain' }));
+    document.body.dispatchEvent(new DragEvent('drop', { dataTransfer: data, bubbles: true, cancelable: true }));
+  }, text);
+  await page.waitForFunction(() => document.getElementById('content-info').textContent.includes('dropped_cmu31.bvh'));
+  assert.match(await page.textContent('#content-info'), /cmu31 rig, 31 joints/);
+
+  await page.setInputFiles('#content-file', fixture('foreign/iclone100_cmu_002_04.bvh'));
+  await page.waitForFunction(() => document.getElementById('content-info').textContent.includes('iclone100'));
+  // The page keeps animating while the worker stylizes 8 samples of a 100-joint clip.
+  await page.fill('#samples', '8');
+  await page.evaluate(() => {
+    const gaps = (window.__gaps = []);
+    let last = performance.now();
+    const tick = (now) => {
+      gaps.push(now - last);
+      last = now;
+      if (document.body.dataset.busy !== 'false' || gaps.length < 5) requestAnimationFrame(tick);
+    };
+    requestAnimationFrame(tick);
+  });
+  await stylize(page);
+  const { worst, frames, ms } = await page.evaluate(() => ({ worst: Math.max(...window.__gaps), frames: window.__gaps.length, ms: window.__demo.timings.lastStylizeMs }));
+  console.log(`# 8 samples of iclone100 (100 joints) stylized in ${Math.round(ms)} ms in the worker; meanwhile ${frames} animation frames, longest gap ${Math.round(worst)} ms`);
+  assert.ok(worst < 250, `the page froze for ${worst} ms`);
+  assert.equal(await page.locator('#thumbs button').count(), 8);
+  await page.click('#share');
+  await page.waitForFunction(() => document.getElementById('share-info').textContent.includes('too large to share'));
+  assert.equal(await page.isVisible('#share-url'), false);
+  // Keyboard: Space pauses and plays.
+  await page.click('h1');
+  await page.keyboard.press('Space');
+  assert.equal(await page.textContent('#play'), 'Play');
+  await page.keyboard.press('Space');
+  assert.equal(await page.textContent('#play'), 'Pause');
+  await page.context().close();
+});
+
 test('damaged and hostile share links are refused with a message, never run as HTML', async () => {
   for (const hash of ['#s=!!!', '#s=AAAA', `#s=${'A'.repeat(130_000)}`]) {
     const page = await openPage(`${server.url}${hash}`);
@@ -221,6 +274,13 @@ test('damaged and hostile share links are refused with a message, never run as H
   assert.match(await page.textContent('#error'), /unknown style label "<img src=x onerror=alert\(1\)>"/);
   assert.equal(await page.locator('img').count(), 0);
   await page.context().close();
+
+  // A link made with other weights opens, and says the result may differ.
+  const other = await deflate(JSON.stringify({ v: 1, content: { sample: 'walk-tired' }, mode: 'label', label: 'sad', weights: '00000000' }));
+  const page2 = await openPage(`${server.url}#s=${other}`);
+  assert.match(await page2.textContent('#share-info'), /made with other model weights \(00000000; these are [0-9a-f]{8}\)/);
+  assert.match(await page2.textContent('#status'), /Stylized as “sad”/);
+  await page2.context().close();
 });
 
 async function deflate(text) {

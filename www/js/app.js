@@ -319,7 +319,14 @@ el('share').addEventListener('click', async () => {
   const made = state.made;
   if (!made) return;
   const motionRef = (m) => m && (m.source.sample ? { sample: m.source.sample } : { bvh: m.source.bvh, name: m.source.name });
-  const payload = { ...made.controls, rig: el('rig').value, pick: state.pick, content: motionRef(made.content), ref: motionRef(made.ref) };
+  const payload = {
+    ...made.controls,
+    rig: el('rig').value,
+    pick: state.pick,
+    content: motionRef(made.content),
+    ref: motionRef(made.ref),
+    weights: state.timings.load?.weightsId,
+  };
   const { fragment, chars } = await encodeState(payload);
   const input = el('share-url');
   if (!fragment) {
@@ -361,6 +368,11 @@ async function openShared(hash) {
   writeControls(shared);
   state.pendingPick = shared.pick;
   await stylize();
+  const here = state.timings.load?.weightsId;
+  el('share-info').textContent =
+    shared.weights && shared.weights !== here
+      ? `This link was made with other model weights (${shared.weights}; these are ${here}): the result may differ from the one shared.`
+      : 'Opened a share link: this is the shared result.';
   return true;
 }
 

@@ -86,6 +86,13 @@ function styleOf(src) {
   }
 }
 
+/** A short fingerprint of the weights (FNV-1a of the manifest and statistics): share links carry it. */
+function fingerprint(...parts) {
+  let h = 0x811c9dc5;
+  for (const bytes of parts) for (const b of bytes) h = Math.imul(h ^ b, 0x01000193) >>> 0;
+  return h.toString(16).padStart(8, '0');
+}
+
 const ops = {
   async load({ backend }, progress) {
     const t0 = performance.now();
@@ -101,6 +108,7 @@ const ops = {
       backend: stylizer.backend,
       fallbackReason: stylizer.fallbackReason,
       loadMs: stylizer.loadMs,
+      weightsId: fingerprint(weights.manifest, weights.norm),
       fetchMs,
       totalMs: performance.now() - t0,
     };
