@@ -111,10 +111,9 @@ document.addEventListener('keydown', (e) => {
 // ---------- motions ----------
 
 function describe(m) {
-  const d = m.display;
-  const seconds = (d.frames / d.fps).toFixed(1);
+  const { frames, fps } = m.file;
   const missing = m.report.missing?.length ? ` · unmatched: ${m.report.missing.join(', ')}` : '';
-  return `${m.name} · ${m.rig} rig, ${d.parents.length} joints · ${d.frames} frames at ${Math.round(d.fps)} fps (${seconds} s)${missing}`;
+  return `${m.name} · ${m.rig} rig, ${m.display.parents.length} joints · ${frames} frames at ${Math.round(fps)} fps (${(frames / fps).toFixed(1)} s)${missing}`;
 }
 
 /** Imports BVH text into the worker's slot ('content' or 'ref'); returns the motion, or null after showing the error. */
@@ -124,7 +123,7 @@ async function loadMotion(slot, text, source, name) {
   progress('busy');
   try {
     const r = await engine.call('import', { slot, text });
-    const motion = { source, name, rig: r.rig, report: r.report, display: toDisplay(r.display, r.report) };
+    const motion = { source, name, rig: r.rig, report: r.report, file: r.display.file, display: toDisplay(r.display, r.report) };
     state[slot] = motion;
     showError(null);
     if (slot === 'content') {

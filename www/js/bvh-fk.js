@@ -69,10 +69,18 @@ export function parseBvh(text) {
   return { names, parents, offsets, channels, frameTime, rows };
 }
 
-/** {names, parents, fps, frames, positions: Float32Array frames × joints × 3}. */
-export function bvhPositions(text) {
-  const { names, parents, offsets, channels, frameTime, rows } = parseBvh(text);
+/**
+ * {names, parents, fps, frames, positions: Float32Array frames × joints × 3}. Only every step-th
+ * frame is kept where the clip is faster than 60 fps or larger than `maxValues` positions (drawing
+ * needs no more; the model gets the whole clip).
+ */
+export function bvhPositions(text, maxValues = 6_000_000) {
+  const parsed = parseBvh(text);
+  const { names, parents, offsets, channels } = parsed;
   const n = names.length;
+  const step = Math.max(1, Math.floor(parsed.frameTime > 0 ? 1 / (60 * parsed.frameTime) : 1), Math.ceil((parsed.rows.length * n * 3) / maxValues));
+  const rows = step === 1 ? parsed.rows : parsed.rows.filter((_, i) => i % step === 0);
+  const frameTime = parsed.frameTime * step;
   const positions = new Float32Array(rows.length * n * 3);
   const pos = new Array(n);
   const rot = new Array(n);
@@ -99,5 +107,5 @@ export function bvhPositions(text) {
       positions.set(pos[i], (f * n + i) * 3);
     }
   });
-  return { names, parents, fps: 1 / frameTime, frames: rows.length, positions };
+  return { names, parents, fps: 1 / frameTime, frames: rows.length, positions, file: { frames: parsed.rows.length, fps: 1 / parsed.frameTime } };
 }
