@@ -3,10 +3,11 @@ SHELL := bash
 .SHELLFLAGS := -eu -o pipefail -c
 CARGO ?= cargo
 DEMO_OUT ?= out/demo
+EVAL_REPEATS ?= 10
 
 DATA_SRC ?= ../shared/data/bandai-namco
 
-.PHONY: data demo test test-rust test-js setup-js bench fuzz clean pkg setup-wasm test-wasm bench-wasm
+.PHONY: eval data demo test test-rust test-js setup-js bench fuzz clean pkg setup-wasm test-wasm bench-wasm
 
 ## demo: build the CLI and run it on the bundled clips: inspect, retarget onto the canonical rig and back, stylize
 demo:
@@ -86,6 +87,12 @@ bench-wasm: pkg
 bench:
 	$(CARGO) run --release --example pipeline_throughput
 	bench/bvh_parse/run.sh
+
+## eval: the evaluation of the shipped weights (needs `make data`): held-out takes and the foreign-rig files
+eval:
+	$(CARGO) build --release --bin motion-stylizer
+	./target/release/motion-stylizer eval --data data --repeats $(EVAL_REPEATS) --seed 0 --json assets/eval/heldout.json
+	./target/release/motion-stylizer eval --data data --content ../shared/data/foreign-rigs --repeats 30 --seed 0 --json assets/eval/foreign.json
 
 ## data: unpack the Bandai-Namco archives into data/ (git-ignored; needed only for training, eval and the full-size benchmarks)
 data:

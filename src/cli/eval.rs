@@ -49,6 +49,11 @@ fn crate_path(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
 }
 
+/// A path for the record: relative to the crate when inside it.
+fn shown(path: &Path) -> String {
+    path.strip_prefix(env!("CARGO_MANIFEST_DIR")).unwrap_or(path).display().to_string()
+}
+
 pub fn run(args: &EvalArgs) -> anyhow::Result<()> {
     anyhow::ensure!(args.repeats >= 1, "--repeats must be at least 1");
     let t0 = Instant::now();
@@ -103,8 +108,8 @@ pub fn run(args: &EvalArgs) -> anyhow::Result<()> {
     println!("{}", report::to_table(&rows));
     let provenance = Provenance {
         command: std::env::args().collect::<Vec<_>>().join(" "),
-        weights: weights_dir.display().to_string(),
-        classifier: classifier_path.display().to_string(),
+        weights: shown(&weights_dir),
+        classifier: shown(&classifier_path),
         contents: args.content.as_ref().map_or("heldout".into(), |d| d.display().to_string()),
         num_contents: contents.len(),
         num_heldout: heldout.len(),
