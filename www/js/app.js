@@ -245,7 +245,8 @@ async function stylize() {
   try {
     const { outputs, ms } = await engine.call('stylize', request);
     const report = state.content.report;
-    state.results = outputs.map((o) => ({ bvh: o.bvh, display: toDisplay(o, report) }));
+    const turn = state.content.display.turn;
+    state.results = outputs.map((o) => ({ bvh: o.bvh, display: toDisplay(o, report, turn) }));
     state.made = { controls, request, content: state.content, ref: usesReference(controls) ? state.ref : null };
     state.timings.lastStylizeMs = ms;
     state.timings.lastRoundTripMs = performance.now() - started;

@@ -15,10 +15,41 @@ function axisVector(spec) {
 const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
 
 /**
- * A motion in display space: positions rotated so that the rig's up axis is +Y and its forward
- * axis +Z, scaled to centimetres. `report` is {up, forward, scale} from the importer.
+ * The turn about the up axis (cos, sin) that makes the character face +Z: its left side (from the
+ * right to the left hip and shoulder, `pairs` of joint indices) along +X, on average over the clip
+ * (or in the first frame when the clip turns around and the average vanishes). Null without pairs.
  */
-export function toDisplay({ positions, parents, fps, frames }, report) {
+function facing(out, joints, frames, pairs) {
+  if (!pairs?.length) return null;
+  const across = (f) => {
+    let x = 0;
+    let z = 0;
+    for (const [l, r] of pairs) {
+      x += out[(f * joints + l) * 3] - out[(f * joints + r) * 3];
+      z += out[(f * joints + l) * 3 + 2] - out[(f * joints + r) * 3 + 2];
+    }
+    return [x, z];
+  };
+  let [ax, az] = [0, 0];
+  let size = 0;
+  for (let f = 0; f < frames; f++) {
+    const [x, z] = across(f);
+    ax += x;
+    az += z;
+    size += Math.hypot(x, z);
+  }
+  if (Math.hypot(ax, az) < 0.3 * size) [ax, az] = across(0);
+  const n = Math.hypot(ax, az);
+  return n > 1e-9 ? [ax / n, az / n] : null;
+}
+
+/**
+ * A motion in display space: positions rotated so that the rig's up axis is +Y and the character
+ * faces +Z (its left along +X), scaled to centimetres. `report` is {up, forward, scale, pairs}
+ * from the importer (pairs: left/right joint indices; the rig's forward axis is used without them).
+ * Pass the content's `turn` (returned here) for the result so that both share the same views.
+ */
+export function toDisplay({ positions, parents, fps, frames }, report, turn) {
   let up = axisVector(report?.up) ?? [0, 1, 0];
   let forward = axisVector(report?.forward) ?? [0, 0, 1];
   if (up.every((c, i) => Math.abs(c) === Math.abs(forward[i]))) [up, forward] = [[0, 1, 0], [0, 0, 1]];
@@ -33,6 +64,13 @@ export function toDisplay({ positions, parents, fps, frames }, report) {
     out[i + 1] = dot(up);
     out[i + 2] = dot(forward);
   }
+  turn ??= facing(out, joints, frames, report?.pairs) ?? [1, 0];
+  const [c, s] = turn;
+  for (let i = 0; i < out.length; i += 3) {
+    const [x, z] = [out[i], out[i + 2]];
+    out[i] = x * c + z * s;
+    out[i + 2] = -x * s + z * c;
+  }
   // The joint whose path is drawn as the trail: the root, or its first child when the root never moves (Bandai's joint_Root).
   let trail = 0;
   let still = true;
@@ -40,7 +78,7 @@ export function toDisplay({ positions, parents, fps, frames }, report) {
   if (still && frames > 1) trail = Math.max(0, parents.indexOf(0));
   let floor = Infinity;
   for (let i = 1; i < out.length; i += 3) floor = Math.min(floor, out[i]);
-  return { positions: out, parents, fps, frames, joints, trail, still: still && trail !== 0, floor };
+  return { positions: out, parents, fps, frames, joints, trail, still: still && trail !== 0, floor, turn };
 }
 
 /** The frame shown at `time` seconds. */

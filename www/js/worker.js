@@ -122,11 +122,17 @@ const ops = {
     old?.content?.free?.();
     const report = motion.rigReport();
     const display = bvhPositions(text);
+    // The user's joints matched to the canonical hips and upper arms: the views face the character's front.
+    const user = Object.fromEntries(report.matched ?? []);
+    const index = (canonical) => display.names.indexOf(user[canonical]);
+    const pairs = [['UpperLeg_L', 'UpperLeg_R'], ['UpperArm_L', 'UpperArm_R']]
+      .map(([l, r]) => [index(l), index(r)])
+      .filter(([l, r]) => l >= 0 && r >= 0);
     return {
       result: {
         frames: motion.frames,
         rig: motion.rig,
-        report: { up: report.up_axis, forward: report.forward_axis, scale: report.scale, missing: report.missing },
+        report: { up: report.up_axis, forward: report.forward_axis, scale: report.scale, missing: report.missing, pairs },
         display,
       },
       transfer: [display.positions.buffer],
