@@ -101,4 +101,4 @@ data:
 
 clean:
 	$(CARGO) clean
-	rm -rf out tests/js/node_modules
+	rm -rf out tests/js/node_modules tests/www/node_modules

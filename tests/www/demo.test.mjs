@@ -275,6 +275,13 @@ test('damaged and hostile share links are refused with a message, never run as H
   assert.equal(await page.locator('img').count(), 0);
   await page.context().close();
 
+  // A link whose motion is not BVH the package accepts.
+  const broken = await deflate(JSON.stringify({ v: 1, content: { bvh: 'HIERARCHY\nROOT Hips\n{\n', name: 'x.bvh' }, mode: 'label', label: 'old' }));
+  const page3 = await openPage(`${server.url}#s=${broken}`);
+  await page3.waitForSelector('#error:not([hidden])');
+  assert.match(await page3.textContent('#error'), /This share link cannot be opened — BVH_PARSE: its content motion could not be loaded: /);
+  await page3.context().close();
+
   // A link made with other weights opens, and says the result may differ.
   const other = await deflate(JSON.stringify({ v: 1, content: { sample: 'walk-tired' }, mode: 'label', label: 'sad', weights: '00000000' }));
   const page2 = await openPage(`${server.url}#s=${other}`);

@@ -141,6 +141,7 @@ async function loadMotion(slot, text, source, name) {
     status(`Loaded ${name}.`);
     return motion;
   } catch (e) {
+    state.lastError = e;
     showError(`Could not load ${name}`, e);
     status(slot === 'content' && state.content ? `Still showing ${state.content.name}.` : 'Ready.');
     return null;
@@ -363,8 +364,13 @@ async function openShared(hash) {
     return false;
   }
   const load = (slot, ref) => (ref.sample ? loadSample(slot, ref.sample) : loadMotion(slot, ref.bvh, ref, ref.name).then((m) => m && markUploaded(slot, ref.name) && m));
-  if (!(await load('content', shared.content))) return false;
-  if (shared.ref && !(await load('ref', shared.ref))) return false;
+  for (const slot of ['content', 'ref']) {
+    if (!shared[slot] || (await load(slot, shared[slot]))) continue;
+    const e = state.lastError;
+    linkError = { code: e?.code ?? 'BAD_LINK', message: `its ${slot === 'ref' ? 'reference' : 'content'} motion could not be loaded: ${e?.message}`, line: e?.line };
+    showError('This share link cannot be opened', linkError);
+    return false;
+  }
   writeControls(shared);
   state.pendingPick = shared.pick;
   await stylize();
