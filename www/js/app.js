@@ -6,6 +6,7 @@ import { Player } from './player.js';
 import { SAMPLES, fetchSample, sampleById } from './samples.js';
 import { MAX_LINK_CHARS, decodeState, encodeState, hasState } from './share.js';
 import { Thumbs } from './thumbs.js';
+import { onFileDrop, progress, showError, status } from './ui.js';
 import { Views, toDisplay } from './views.js';
 
 const el = (id) => document.getElementById(id);
@@ -30,32 +31,6 @@ const state = {
   timings: {},
 };
 window.__demo = state; // for the end-to-end tests and the curious (read-only use)
-
-// ---------- status, progress, errors ----------
-
-function status(text) {
-  el('status').textContent = text;
-}
-
-function progress(fraction) {
-  const box = el('progress');
-  box.hidden = fraction == null;
-  box.classList.toggle('busy', fraction === 'busy');
-  box.querySelector('.bar').style.width = typeof fraction === 'number' ? `${Math.round(fraction * 100)}%` : '';
-}
-
-function showError(what, e) {
-  const box = el('error');
-  if (!e) {
-    box.hidden = true;
-    box.textContent = '';
-    return;
-  }
-  const code = e.code ? `${e.code}: ` : '';
-  const line = e.line ? ` (line ${e.line})` : '';
-  box.textContent = `${what} — ${code}${e.message}${line}`;
-  box.hidden = false;
-}
 
 function setBusy(delta) {
   state.busy += delta;
@@ -174,13 +149,7 @@ async function loadFile(slot, file) {
   }
   const text = await file.text();
   const m = await loadMotion(slot, text, { bvh: text, name: file.name }, file.name);
-  if (m) {
-    const select = el(slot === 'content' ? 'content-sample' : 'ref-sample');
-    const option = select.querySelector('option[value=""]') ?? select.appendChild(document.createElement('option'));
-    option.value = '';
-    option.textContent = `uploaded: ${file.name}`;
-    select.value = '';
-  }
+  if (m) markUploaded(slot, `uploaded: ${file.name}`);
   return m;
 }
 
@@ -196,26 +165,7 @@ el('content-sample').addEventListener('change', (e) => e.target.value && loadSam
 el('ref-sample').addEventListener('change', (e) => e.target.value && loadSample('ref', e.target.value));
 
 // Drag and drop anywhere on the page: the content motion.
-let dragDepth = 0;
-document.addEventListener('dragenter', (e) => {
-  if (![...(e.dataTransfer?.types ?? [])].includes('Files')) return;
-  dragDepth++;
-  document.body.classList.add('dragging');
-});
-document.addEventListener('dragleave', () => {
-  if (--dragDepth <= 0) {
-    dragDepth = 0;
-    document.body.classList.remove('dragging');
-  }
-});
-document.addEventListener('dragover', (e) => e.preventDefault());
-document.addEventListener('drop', (e) => {
-  e.preventDefault();
-  dragDepth = 0;
-  document.body.classList.remove('dragging');
-  const file = e.dataTransfer?.files?.[0];
-  if (file) loadFile('content', file);
-});
+onFileDrop((file) => loadFile('content', file));
 
 // ---------- stylizing ----------
 
@@ -363,7 +313,7 @@ async function openShared(hash) {
     showError('This share link cannot be opened', linkError);
     return false;
   }
-  const load = (slot, ref) => (ref.sample ? loadSample(slot, ref.sample) : loadMotion(slot, ref.bvh, ref, ref.name).then((m) => m && markUploaded(slot, ref.name) && m));
+  const load = (slot, ref) => (ref.sample ? loadSample(slot, ref.sample) : loadMotion(slot, ref.bvh, ref, ref.name).then((m) => m && markUploaded(slot, `shared: ${ref.name}`) && m));
   for (const slot of ['content', 'ref']) {
     if (!shared[slot] || (await load(slot, shared[slot]))) continue;
     const e = state.lastError;
@@ -382,11 +332,12 @@ async function openShared(hash) {
   return true;
 }
 
-function markUploaded(slot, name) {
+/** Shows a file's name as the chosen entry of the slot's sample picker. */
+function markUploaded(slot, text) {
   const select = el(slot === 'content' ? 'content-sample' : 'ref-sample');
   const option = select.querySelector('option[value=""]') ?? select.appendChild(document.createElement('option'));
   option.value = '';
-  option.textContent = `shared: ${name}`;
+  option.textContent = text;
   select.value = '';
   return true;
 }
