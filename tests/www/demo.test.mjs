@@ -168,6 +168,20 @@ test('modes: reference motion, prior with N samples as thumbnails, mix slider; W
   assert.equal(await page.inputValue('#ref-label'), 'tired');
   await stylize(page);
   assert.match(await page.textContent('#status'), /“tired”/);
+  // A reference from a file, on another rig, with the label picked by hand.
+  await page.setInputFiles('#ref-file', fixture('foreign/cmu31_xia_neutral_16_000.bvh'));
+  await page.waitForFunction(() => document.getElementById('ref-info').textContent.includes('cmu31_xia'));
+  assert.match(await page.inputValue('#ref-sample'), /^$/);
+  await page.selectOption('#ref-label', 'normal');
+  await stylize(page);
+  assert.match(await page.textContent('#status'), /“normal”/);
+  // A one-frame clip (a rest pose) stylizes and plays.
+  await page.setInputFiles('#content-file', fixture('foreign/cmu31_rest.bvh'));
+  await page.waitForFunction(() => document.getElementById('content-info').textContent.includes('cmu31_rest'));
+  await stylize(page);
+  assert.equal(await page.textContent('#frame-label'), '0 / 0');
+  await page.selectOption('#content-sample', 'walk-normal');
+  await page.waitForFunction(() => document.getElementById('content-info').textContent.includes('walk_normal'));
 
   // Unsupervised prior, 3 samples: three thumbnails, picking one changes the result.
   await page.check('input[name=model][value=unsupervised]');
