@@ -85,6 +85,16 @@ fn heldout_rows_have_every_metric_where_it_applies_and_null_where_not() {
             assert!((0.0..=1.0).contains(&acc), "{setting} acc {acc}");
         }
     }
+    // Foot skating of the real references: present in every row, and the same motions (hence the
+    // same value) for every row stylized toward one reference per content.
+    for setting in ["real", "identity", "sup_motion", "sup_label", "unsup_motion", "unsup_prior"] {
+        let s = row(&v, setting)["foot_skate_ref"].as_f64().unwrap_or_else(|| panic!("{setting}"));
+        assert!(s > 0.0, "{setting} reference foot skating {s}");
+    }
+    let identity_ref = row(&v, "identity")["foot_skate_ref"].as_f64().unwrap();
+    for setting in ["sup_motion", "sup_label", "unsup_motion"] {
+        assert_eq!(row(&v, setting)["foot_skate_ref"].as_f64().unwrap(), identity_ref, "{setting}");
+    }
     // The contents' own takes are never their references: identity is judged against other styles.
     let real = row(&v, "real")["style_acc"].as_f64().unwrap();
     assert!((0.0..=1.0).contains(&real));

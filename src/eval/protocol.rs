@@ -16,7 +16,8 @@
 //! Metrics of a row, per repeat: `style_acc` (classifier's prediction = `X`), `style_fid`
 //! (classifier features of the outputs against those of the references), `geodesic` (to the
 //! content), `diversity` (distance between two samples of the same input, in the classifier's
-//! feature space; `diversity_cm`: mean joint distance, cm), `foot_skate` (cm/s). Motion-based
+//! feature space; `diversity_cm`: mean joint distance, cm), `foot_skate` (cm/s; `foot_skate_ref`:
+//! the same for the row's real references, i.e. real motions of the target styles). Motion-based
 //! outputs are the posterior mean (what the CLI gives by default); their diversity is measured on
 //! two extra draws from the posterior. Label- and prior-based outputs are the first of two
 //! samples; diversity is between the two. Each value is the mean over repeats with its 95 %
@@ -44,7 +45,8 @@ pub struct Labelled {
 pub const ROWS: [&str; 6] = ["real", "identity", "sup_motion", "sup_label", "unsup_motion", "unsup_prior"];
 
 /// The metrics (columns) in table order.
-pub const COLUMNS: [&str; 6] = ["style_acc", "style_fid", "geodesic", "diversity", "diversity_cm", "foot_skate"];
+pub const COLUMNS: [&str; 7] =
+    ["style_acc", "style_fid", "geodesic", "diversity", "diversity_cm", "foot_skate", "foot_skate_ref"];
 
 /// Inputs of an evaluation.
 pub struct Inputs<'a> {
@@ -83,6 +85,8 @@ struct Tally {
     diversity: Vec<f64>,
     diversity_cm: Vec<f64>,
     outputs: Vec<Motion>,
+    /// The real motions the outputs are compared with (references of the target style).
+    references_motion: Vec<Motion>,
 }
 
 impl Tally {
@@ -95,7 +99,7 @@ impl Tally {
         self.references.push(reference.to_vec());
     }
 
-    fn per_repeat(&self) -> [Option<f64>; 6] {
+    fn per_repeat(&self) -> [Option<f64>; 7] {
         let mean = |v: &[f64]| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
         [
             (self.judged > 0).then(|| self.correct as f64 / self.judged as f64),
@@ -104,6 +108,7 @@ impl Tally {
             mean(&self.diversity),
             mean(&self.diversity_cm),
             foot_skate(&self.outputs),
+            foot_skate(&self.references_motion),
         ]
     }
 }
@@ -127,7 +132,7 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Vec<
     }
     let styles: Vec<usize> = (0..n_styles).filter(|s| !by_style[*s].is_empty()).collect();
     let total = inputs.repeats * inputs.contents.len();
-    let mut per_row: Vec<Vec<[Option<f64>; 6]>> = vec![Vec::new(); ROWS.len()];
+    let mut per_row: Vec<Vec<[Option<f64>; 7]>> = vec![Vec::new(); ROWS.len()];
     let mut done = 0;
     for r in 0..inputs.repeats {
         let mut rng = ChaCha8Rng::seed_from_u64(inputs.seed ^ (r as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
@@ -141,6 +146,7 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Vec<
             let pick = if others.is_empty() { i } else { others[below(&mut rng, others.len())] };
             tallies[0].judge(judged_heldout[i].clone(), Some(style), &judged_heldout[pick].feature);
             tallies[0].outputs.push(h.motion.clone());
+            tallies[0].references_motion.push(inputs.heldout[pick].motion.clone());
         }
 
         for content in inputs.contents {
@@ -159,6 +165,7 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Vec<
             tallies[1].judge(inputs.judge.judge(&content.motion), Some(target), &ref_feature);
             tallies[1].geodesic.push(0.0);
             tallies[1].outputs.push(content.motion.clone());
+            tallies[1].references_motion.push(reference.motion.clone());
 
             let sources: [(usize, Setting, StyleSource<'_>, bool); 4] = [
                 (2, Setting::Supervised, StyleSource::labelled_motion(&reference.motion, label), true),
@@ -191,6 +198,7 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Vec<
                     t.diversity_cm.push(d);
                 }
                 t.outputs.push(output);
+                t.references_motion.push(reference.motion.clone());
             }
             done += 1;
             progress(done, total);

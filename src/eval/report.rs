@@ -54,7 +54,7 @@ pub fn to_table(rows: &[Row]) -> String {
         let cells: Vec<String> = row
             .values
             .iter()
-            .map(|(name, v, ci)| cell(*v, *ci, if name.ends_with("_cm") || *name == "foot_skate" { 2 } else { 3 }))
+            .map(|(name, v, ci)| cell(*v, *ci, if name.ends_with("_cm") || name.starts_with("foot_skate") { 2 } else { 3 }))
             .collect();
         out.push_str(&format!("| {} | {} |\n", row.setting, cells.join(" | ")));
     }

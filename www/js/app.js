@@ -45,9 +45,13 @@ function setBusy(delta) {
 function showTime(time) {
   views.draw(time);
   thumbs.draw(time);
+  // Frame k covers [k/fps, (k+1)/fps): floor, clamped to the last frame (a looping one-frame clip's
+  // clock runs in [0, 1/fps) and must read 0 / 0).
   const fps = 30;
-  el('scrub').value = String(Math.round(time * fps));
-  el('frame-label').textContent = `${Math.round(time * fps)} / ${Math.max(0, Math.round(player.duration * fps) - 1)}`;
+  const last = Math.max(0, Math.round(player.duration * fps) - 1);
+  const frame = Math.min(last, Math.floor(time * fps + 1e-6));
+  el('scrub').value = String(frame);
+  el('frame-label').textContent = `${frame} / ${last}`;
 }
 
 function updateDuration() {
