@@ -38,12 +38,14 @@
 //! - **Root.** Angular velocity from the content, ground velocity from the global motion
 //!   regressor on the generated motion, height from the decoder (paper §3.3); the output starts
 //!   where the content started, facing the same way; then planted feet are kept from sliding
-//!   ([`feet`]: the root's ground path is corrected by the decoder's own foot contacts).
+//!   with the decoder's own foot contacts: the root's ground path is corrected ([`feet`]), then
+//!   each planted ankle is held on one spot by two-bone leg IK ([`legs`]).
 //! - **Randomness.** Everything is drawn from `seed` on the Rust side (ChaCha8), so the same
 //!   request gives the same bits natively and in wasm.
 
 pub mod error;
 pub mod feet;
+pub mod legs;
 pub mod manifest;
 pub mod pipeline;
 pub mod source;

@@ -16,7 +16,7 @@ use rand_chacha::ChaCha8Rng;
 use rand_chacha::rand_core::{RngCore, SeedableRng};
 
 use super::StylizeError;
-use super::feet;
+use super::{feet, legs};
 use super::source::{MAX_MIX_DEPTH, MAX_SAMPLES, MAX_TEMPERATURE, Request, StyleSource};
 use super::weights::{Setting, Weights};
 use crate::Motion;
@@ -300,7 +300,9 @@ fn to_motion(
     let mut features = Features::new(frames, data)?;
     weights.norm().denormalize(&mut features);
     let motion = reconstruct(&features)?;
-    let motion = feet::pin_feet(&motion, &feet::contacts(&features)).map_err(|e| StylizeError::Features(e.into()))?;
+    let contacts = feet::contacts(&features);
+    let motion = feet::pin_feet(&motion, &contacts).map_err(|e| StylizeError::Features(e.into()))?;
+    let motion = legs::lock_legs(&motion, &contacts).map_err(|e| StylizeError::Features(e.into()))?;
     placement.from_canonical_motion(&motion).map_err(|e| StylizeError::Features(e.into()))
 }
 
