@@ -4,7 +4,7 @@
 
 use burn::prelude::*;
 use motion_stylizer::model::classifier::StyleClassifier;
-use motion_stylizer::model::layers::{AdaIn, instance_norm, reflect_pad_time, upsample_nearest2};
+use motion_stylizer::model::layers::{AdaIn, conv1d_gemm, instance_norm, reflect_pad_time, upsample_nearest2, xavier_conv1d};
 use motion_stylizer::model::losses::{kl_gaussians, kl_to_standard_normal, latent_smoothness, smooth_l1};
 use motion_stylizer::model::regressor::regressor_input;
 use motion_stylizer::model::weights::{from_f16_bytes, load_bundle, save_bundle, to_f16_bytes};
@@ -107,6 +107,27 @@ fn layer_helpers() {
     let mean: f32 = n.iter().sum::<f32>() / 4.0;
     let var: f32 = n.iter().map(|v| (v - mean).powi(2)).sum::<f32>() / 4.0;
     assert!(mean.abs() < 1e-6 && (var - 1.0).abs() < 1e-3, "{mean} {var}");
+}
+
+/// The inference convolution as matrix products gives Burn's convolution's numbers for every
+/// shape the networks use (kernel 1; kernel 3 at stride 1 and 2, zero padding or none), even and
+/// odd lengths, batch 1 and 3.
+#[test]
+fn conv_as_matrix_products_matches_burns_conv() {
+    let mut rng = NoiseRng::new(3);
+    for &(k, stride, pad) in &[(1, 1, 0), (3, 1, 0), (3, 1, 1), (3, 2, 0), (3, 2, 1)] {
+        for &(b, t) in &[(1, 16), (3, 9), (1, 3), (2, 40)] {
+            let conv = xavier_conv1d(12, 7, k, stride, pad, true, &device());
+            let x = features(&mut rng, b, 12, t);
+            let (ours, burn) = (conv1d_gemm(&conv, x.clone()), conv.forward(x));
+            assert_eq!(ours.dims(), burn.dims(), "k{k} s{stride} p{pad} b{b} t{t}");
+            let diff = max_abs_diff(ours, burn);
+            assert!(diff < 1e-5, "k{k} s{stride} p{pad} b{b} t{t}: {diff}");
+        }
+    }
+    let no_bias = xavier_conv1d(5, 2, 1, 1, 0, false, &device());
+    let x = features(&mut rng, 2, 5, 8);
+    assert!(max_abs_diff(conv1d_gemm(&no_bias, x.clone()), no_bias.forward(x)) < 1e-5);
 }
 
 #[test]
