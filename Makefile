@@ -83,6 +83,21 @@ bench-wasm: pkg
 	$(CARGO) build --release --example stylize_bench
 	node bench/wasm/run.mjs
 
+## bench-perf: ours vs onnxruntime-web (wasm, Node, 1 thread) and vs PyTorch CPU on the same network at the shipped
+## weights, after a parity check (outputs within 1e-4); BVH parsing vs three.js; writes bench/results.json (bench/README.md)
+.PHONY: bench-perf setup-bench
+BENCH_ROUNDS ?= 5
+BENCH_REPEATS ?= 5
+BENCH_THREADS ?= 1
+setup-bench:
+	scripts/setup-bench.sh
+
+bench-perf: setup-bench pkg
+	$(CARGO) build --release --example perf_bench
+	CARGO_TARGET_WASM32_WASIP1_RUSTFLAGS="-C target-feature=+simd128" \
+	  $(CARGO) build --release --example perf_bench --target wasm32-wasip1 --no-default-features --features model
+	node bench/perf/run.mjs --rounds $(BENCH_ROUNDS) --repeats $(BENCH_REPEATS) --threads $(BENCH_THREADS)
+
 ## bench: parse + retarget + features throughput, and BVH parsing against three.js
 bench:
 	$(CARGO) run --release --example pipeline_throughput
@@ -101,4 +116,4 @@ data:
 
 clean:
 	$(CARGO) clean
-	rm -rf out tests/js/node_modules tests/www/node_modules
+	rm -rf out tests/js/node_modules tests/www/node_modules bench/perf/node_modules bench/perf/.venv

@@ -1,0 +1,131 @@
+"""Reads our shipped weight bundles (`assets/weights/*.bin`) into numpy arrays, no Rust needed.
+
+Bundle layout (src/model/weights.rs): b"MSTYLZ01" | u32 LE config-JSON length | config JSON |
+burnpack bytes. Burnpack (burn-pack 0.22, see its lib.rs): u32 magic 0x4255524E | u16 version |
+u32 metadata size | CBOR metadata {tensors: {name: {dtype, shape, data_offsets, param_id}},
+metadata} | padding to 256 bytes | tensor data (offsets relative to the data section).
+"""
+
+import json
+import struct
+
+import numpy as np
+
+BUNDLE_MAGIC = b"MSTYLZ01"
+BURNPACK_MAGIC = 0x4255524E
+BURNPACK_HEADER = 10
+ALIGN = 256
+
+
+class _Cbor:
+    """A minimal CBOR decoder: what burnpack's metadata uses (ints, strings, arrays, maps,
+    floats, bools, null)."""
+
+    def __init__(self, data):
+        self.d = data
+        self.i = 0
+
+    def _arg(self, info):
+        if info < 24:
+            return info
+        n = {24: 1, 25: 2, 26: 4, 27: 8}[info]
+        v = int.from_bytes(self.d[self.i:self.i + n], "big")
+        self.i += n
+        return v
+
+    def read(self):
+        b = self.d[self.i]
+        self.i += 1
+        major, info = b >> 5, b & 31
+        if major == 7:
+            if info == 20:
+                return False
+            if info == 21:
+                return True
+            if info in (22, 23):
+                return None
+            if info == 25:
+                v = np.frombuffer(self.d[self.i:self.i + 2], ">f2")[0]
+                self.i += 2
+                return float(v)
+            if info == 26:
+                v = struct.unpack(">f", self.d[self.i:self.i + 4])[0]
+                self.i += 4
+                return v
+            if info == 27:
+                v = struct.unpack(">d", self.d[self.i:self.i + 8])[0]
+                self.i += 8
+                return v
+            raise ValueError(f"CBOR simple value {info}")
+        if info == 31:
+            raise ValueError("indefinite-length CBOR item")
+        n = self._arg(info)
+        if major == 0:
+            return n
+        if major == 1:
+            return -1 - n
+        if major in (2, 3):
+            v = self.d[self.i:self.i + n]
+            self.i += n
+            return bytes(v) if major == 2 else bytes(v).decode()
+        if major == 4:
+            return [self.read() for _ in range(n)]
+        if major == 5:
+            out = {}
+            for _ in range(n):
+                k = self.read()
+                out[k if not isinstance(k, list) else tuple(k)] = self.read()
+            return out
+        if major == 6:
+            return self.read()
+        raise ValueError(f"CBOR major type {major}")
+
+
+_DTYPES = {"F16": np.float16, "F32": np.float32, "F64": np.float64, "BF16": None}
+
+
+def _dtype_name(d):
+    if isinstance(d, str):
+        return d
+    if isinstance(d, dict) and len(d) == 1:
+        return next(iter(d))
+    raise ValueError(f"unknown dtype encoding {d!r}")
+
+
+def read_burnpack(data):
+    """{tensor name: float32 array} from burnpack bytes."""
+    magic, version, meta_len = struct.unpack_from("<IHI", data, 0)
+    if magic != BURNPACK_MAGIC:
+        raise ValueError("not a burnpack record")
+    meta = _Cbor(memoryview(data)[BURNPACK_HEADER:BURNPACK_HEADER + meta_len]).read()
+    start = BURNPACK_HEADER + meta_len
+    start = (start + ALIGN - 1) // ALIGN * ALIGN
+    out = {}
+    for name, t in meta["tensors"].items():
+        dtype = _DTYPES.get(_dtype_name(t["dtype"]))
+        if dtype is None:
+            raise ValueError(f"{name}: dtype {t['dtype']!r} not supported")
+        a, b = t["data_offsets"]
+        arr = np.frombuffer(data, dtype=dtype, count=(b - a) // np.dtype(dtype).itemsize, offset=start + a)
+        out[name] = arr.reshape([int(s) for s in t["shape"]]).astype(np.float32)
+    return out
+
+
+def read_bundle(path):
+    """(config dict, {parameter path: float32 array}) of one of our weight bundles."""
+    with open(path, "rb") as f:
+        data = f.read()
+    if data[:8] != BUNDLE_MAGIC:
+        raise ValueError(f"{path}: not a motion-stylizer weights bundle")
+    (n,) = struct.unpack_from("<I", data, 8)
+    config = json.loads(data[12:12 + n])
+    return config, read_burnpack(data[12 + n:])
+
+
+if __name__ == "__main__":
+    import sys
+
+    config, tensors = read_bundle(sys.argv[1])
+    print(json.dumps(config))
+    for k, v in tensors.items():
+        print(k, v.shape)
