@@ -24,6 +24,7 @@ import torch_model  # noqa: E402
 
 TOLERANCE = 1e-4
 warnings.filterwarnings("ignore", category=UserWarning)
+warnings.filterwarnings("ignore", category=DeprecationWarning)
 
 
 def inputs(dump):
