@@ -7,7 +7,8 @@
 //! perf_bench WEIGHTS_DIR CONTENT.bvh STYLE.bvh REPEATS [DUMP_DIR]
 //! ```
 //!
-//! The work timed (REPEATS times each, after two warm-up runs of all of it; every time in ms on stdout as JSON):
+//! The work timed (REPEATS times each, after two warm-up runs of all of it; every time in ms on
+//! stdout as JSON):
 //! - `net_motion`: supervised motion-based, the style reference's posterior mean with its label
 //!   (`old`): encode content and reference, content encoder, style encoder, generator, decoder,
 //!   global motion regressor, output read back — exactly the network calls of
@@ -40,7 +41,7 @@ fn features_of(weights: &Weights, text: &str, device: &Device) -> BoxResult<(Ten
     weights.norm().normalize(&mut f);
     let values = f.view_channels_first(View::Full);
     let t = f.frames();
-    if t % 8 != 0 {
+    if !t.is_multiple_of(8) {
         return Err(format!("{t} frames: the benchmark clips must be a multiple of 8 frames").into());
     }
     Ok((Tensor::from_data(TensorData::new(values.clone(), [1, DIM, t]), device), values))
@@ -54,7 +55,8 @@ fn read_back(t: Tensor<3>) -> BoxResult<Vec<f32>> {
 fn net_motion(s: &Stylizer, content: Tensor<3>, style: Tensor<3>, label: usize) -> BoxResult<Vec<f32>> {
     let code = s.content(s.encode(content.clone())?)?;
     let dist = s.style_distribution(s.encode(style)?, Some(&[label]))?;
-    let latent = s.model.stylizer.generator.forward(code, dist.mean, Some(one_hot(&[label], s.config.num_styles, s.device())));
+    let latent =
+        s.model.stylizer.generator.forward(code, dist.mean, Some(one_hot(&[label], s.config.num_styles, s.device())));
     finish(s, content, latent, 1)
 }
 
@@ -106,7 +108,8 @@ fn main() -> BoxResult<()> {
 
     let t = Instant::now();
     let read = |name: &str| std::fs::read(dir.join(name));
-    let weights = Weights::from_bytes(&read("manifest.json")?, &read("norm.json")?, Some(&read("supervised.bin")?), None)?;
+    let weights =
+        Weights::from_bytes(&read("manifest.json")?, &read("norm.json")?, Some(&read("supervised.bin")?), None)?;
     let load_ms = t.elapsed().as_secs_f64() * 1e3;
     let s = weights.stylizer(Setting::Supervised)?;
     let device = s.device().clone();

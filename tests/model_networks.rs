@@ -4,7 +4,9 @@
 
 use burn::prelude::*;
 use motion_stylizer::model::classifier::StyleClassifier;
-use motion_stylizer::model::layers::{AdaIn, conv1d_gemm, instance_norm, reflect_pad_time, upsample_nearest2, xavier_conv1d};
+use motion_stylizer::model::layers::{
+    AdaIn, conv1d_gemm, instance_norm, reflect_pad_time, upsample_nearest2, xavier_conv1d,
+};
 use motion_stylizer::model::losses::{kl_gaussians, kl_to_standard_normal, latent_smoothness, smooth_l1};
 use motion_stylizer::model::regressor::regressor_input;
 use motion_stylizer::model::weights::{from_f16_bytes, load_bundle, save_bundle, to_f16_bytes};
