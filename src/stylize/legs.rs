@@ -156,7 +156,7 @@ mod tests {
             .map(|t| {
                 let mut pose = [DQuat::IDENTITY; NUM_JOINTS];
                 pose[joint::UPPER_LEG_L] = DQuat::from_rotation_x(0.3 * (t as f64 * 0.4).sin());
-                pose[joint::LOWER_LEG_L] = DQuat::from_rotation_x(0.2 + 0.1 * (t as f64 * 0.3).cos());
+                pose[joint::LOWER_LEG_L] = DQuat::from_rotation_x(1.0 + 0.1 * (t as f64 * 0.3).cos());
                 pose
             })
             .collect();
@@ -187,6 +187,22 @@ mod tests {
         for t in (6..10).chain(20..24) {
             assert_ne!(m.rotations()[t][joint::UPPER_LEG_L], locked.rotations()[t][joint::UPPER_LEG_L], "frame {t}");
         }
+    }
+
+    /// A target beyond reach bends the knee no straighter than [`REACH`]: the ankle stops short.
+    #[test]
+    fn an_out_of_reach_target_leaves_the_knee_bent() {
+        let m = swinging(1);
+        let mut pose = m.rotations()[0];
+        let root = m.root_positions()[0];
+        let (pos, _) = forward_kinematics(root, &pose);
+        let leg = &LEGS[0];
+        let length = (pos[leg.knee] - pos[leg.hip]).length() + (pos[leg.ankle] - pos[leg.knee]).length();
+        let far = pos[leg.hip] + (pos[leg.ankle] - pos[leg.hip]).normalize() * (2.0 * length);
+        solve(leg, root, &mut pose, far);
+        let (pos, _) = forward_kinematics(root, &pose);
+        let stretch = (pos[leg.ankle] - pos[leg.hip]).length() / length;
+        assert!((stretch - REACH).abs() < 1e-6, "stretched to {stretch}");
     }
 
     #[test]
