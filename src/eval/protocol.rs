@@ -28,7 +28,7 @@ use rand_chacha::rand_core::{RngCore, SeedableRng};
 use serde::Serialize;
 
 use super::classify::{Judge, Judgement};
-use super::metrics::{feature_distance, fid, foot_skate, geodesic, mean_ci, position_distance};
+use super::metrics::{feature_distance, fid, foot_skate_parts, geodesic, mean_ci, position_distance};
 use crate::Motion;
 use crate::dataset::Style;
 use crate::stylize::{self, Request, Setting, StyleSource, StylizeError, Weights};
@@ -84,9 +84,19 @@ struct Tally {
     geodesic: Vec<f64>,
     diversity: Vec<f64>,
     diversity_cm: Vec<f64>,
-    outputs: Vec<Motion>,
-    /// The real motions the outputs are compared with (references of the target style).
-    references_motion: Vec<Motion>,
+    /// Foot skating of the outputs, pooled: sum of speeds and count (`foot_skate_parts`).
+    skate: (f64, usize),
+    /// The same for the real motions the outputs are compared with (references of the target style).
+    reference_skate: (f64, usize),
+}
+
+fn pool(into: &mut (f64, usize), (sum, count): (f64, usize)) {
+    into.0 += sum;
+    into.1 += count;
+}
+
+fn pooled_mean((sum, count): (f64, usize)) -> Option<f64> {
+    (count > 0).then(|| sum / count as f64)
 }
 
 impl Tally {
@@ -107,8 +117,8 @@ impl Tally {
             mean(&self.geodesic),
             mean(&self.diversity),
             mean(&self.diversity_cm),
-            foot_skate(&self.outputs),
-            foot_skate(&self.references_motion),
+            pooled_mean(self.skate),
+            pooled_mean(self.reference_skate),
         ]
     }
 }
@@ -145,8 +155,8 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Vec<
             let others: Vec<usize> = same.iter().copied().filter(|&k| k != i).collect();
             let pick = if others.is_empty() { i } else { others[below(&mut rng, others.len())] };
             tallies[0].judge(judged_heldout[i].clone(), Some(style), &judged_heldout[pick].feature);
-            tallies[0].outputs.push(h.motion.clone());
-            tallies[0].references_motion.push(inputs.heldout[pick].motion.clone());
+            pool(&mut tallies[0].skate, foot_skate_parts(&h.motion));
+            pool(&mut tallies[0].reference_skate, foot_skate_parts(&inputs.heldout[pick].motion));
         }
 
         for content in inputs.contents {
@@ -160,12 +170,13 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Vec<
             let ref_feature = judged_heldout[ref_index].feature.clone();
             let seed = rng.next_u64();
             let label = Style(target as u8);
+            let reference_skate = foot_skate_parts(&reference.motion);
 
             // identity
             tallies[1].judge(inputs.judge.judge(&content.motion), Some(target), &ref_feature);
             tallies[1].geodesic.push(0.0);
-            tallies[1].outputs.push(content.motion.clone());
-            tallies[1].references_motion.push(reference.motion.clone());
+            pool(&mut tallies[1].skate, foot_skate_parts(&content.motion));
+            pool(&mut tallies[1].reference_skate, reference_skate);
 
             let sources: [(usize, Setting, StyleSource<'_>, bool); 4] = [
                 (2, Setting::Supervised, StyleSource::labelled_motion(&reference.motion, label), true),
@@ -197,8 +208,8 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Vec<
                 if let Some(d) = position_distance(&pair[0], &pair[1]) {
                     t.diversity_cm.push(d);
                 }
-                t.outputs.push(output);
-                t.references_motion.push(reference.motion.clone());
+                pool(&mut t.skate, foot_skate_parts(&output));
+                pool(&mut t.reference_skate, reference_skate);
             }
             done += 1;
             progress(done, total);

@@ -14,8 +14,8 @@
 
 use glam::{DQuat, DVec3};
 
-use crate::motion::{Motion, MotionError, forward_kinematics};
-use crate::skeleton::canonical::joint;
+use crate::motion::{Motion, MotionError, Pose};
+use crate::skeleton::canonical::{NUM_JOINTS, joint};
 
 /// Frames over which the IK correction fades in before and out after a contact run.
 pub const BLEND_FRAMES: usize = 4;
@@ -27,9 +27,10 @@ pub const REACH: f64 = 0.99;
 /// Shortest contact run (frames) that is held in place.
 const MIN_RUN: usize = 2;
 
-/// One leg: hip (upper leg), knee (lower leg), ankle (foot), toes, and its ankle's index in the
-/// four contact channels.
+/// One leg: the joint it hangs from, hip (upper leg), knee (lower leg), ankle (foot), toes, and
+/// its ankle's index in the four contact channels.
 struct Leg {
+    pelvis: usize,
     hip: usize,
     knee: usize,
     ankle: usize,
@@ -38,8 +39,8 @@ struct Leg {
 }
 
 const LEGS: [Leg; 2] = [
-    Leg { hip: joint::UPPER_LEG_L, knee: joint::LOWER_LEG_L, ankle: joint::FOOT_L, toes: joint::TOES_L, contact: 0 },
-    Leg { hip: joint::UPPER_LEG_R, knee: joint::LOWER_LEG_R, ankle: joint::FOOT_R, toes: joint::TOES_R, contact: 2 },
+    Leg { pelvis: joint::HIPS, hip: joint::UPPER_LEG_L, knee: joint::LOWER_LEG_L, ankle: joint::FOOT_L, toes: joint::TOES_L, contact: 0 },
+    Leg { pelvis: joint::HIPS, hip: joint::UPPER_LEG_R, knee: joint::LOWER_LEG_R, ankle: joint::FOOT_R, toes: joint::TOES_R, contact: 2 },
 ];
 
 /// `motion` with each leg's ankle held on one spot through each of its contact runs
@@ -49,13 +50,16 @@ pub fn lock_legs(motion: &Motion, contacts: &[[bool; 4]]) -> Result<Motion, Moti
     let frames = motion.frames();
     let root = motion.root_positions().to_vec();
     let mut rotations = motion.rotations().to_vec();
+    // One forward kinematics pass serves both legs: solving one changes only its own joints, and
+    // no joint of the other leg's chain hangs from them.
+    let globals: Vec<_> = (0..frames).map(|t| motion.global_pose(t)).collect();
     for leg in &LEGS {
         let planted: Vec<bool> = (0..frames).map(|t| contacts.get(t).is_some_and(|c| c[leg.contact])).collect();
         let runs = runs(&planted);
         if runs.is_empty() {
             continue;
         }
-        let ankles: Vec<DVec3> = (0..frames).map(|t| forward_kinematics(root[t], &rotations[t]).0[leg.ankle]).collect();
+        let ankles: Vec<DVec3> = globals.iter().map(|(pos, _)| pos[leg.ankle]).collect();
         let spots: Vec<DVec3> = runs
             .iter()
             .map(|&(a, b)| ankles[a..b].iter().fold(DVec3::ZERO, |s, p| s + *p) / (b - a) as f64)
@@ -66,7 +70,8 @@ pub fn lock_legs(motion: &Motion, contacts: &[[bool; 4]]) -> Result<Motion, Moti
             let held = DVec3::new(spot.x, now.y, spot.z);
             let target = now.lerp(held, weight);
             if (target - now).length() > 1e-9 {
-                solve(leg, root[t], pose, target);
+                let (pos, rot) = &globals[t];
+                solve(leg, pos, rot, pose, target);
             }
         }
     }
@@ -107,9 +112,9 @@ fn nearest_spot(t: usize, runs: &[(usize, usize)], spots: &[DVec3]) -> Option<(D
 }
 
 /// Rotates `leg`'s hip and knee in `pose` so its ankle reaches `target` (as near as the bone
-/// lengths allow), keeping the foot's global rotation.
-fn solve(leg: &Leg, root: DVec3, pose: &mut [DQuat; crate::skeleton::canonical::NUM_JOINTS], target: DVec3) {
-    let (pos, rot) = forward_kinematics(root, pose);
+/// lengths allow), keeping the foot's global rotation. `pos` and `rot`: the global joint positions
+/// and rotations of `pose` as given.
+fn solve(leg: &Leg, pos: &[DVec3; NUM_JOINTS], rot: &[DQuat; NUM_JOINTS], pose: &mut Pose, target: DVec3) {
     let (a, b, c) = (pos[leg.hip], pos[leg.knee], pos[leg.ankle]);
     let foot_global = rot[leg.ankle];
     let (lab, lcb) = ((b - a).length(), (b - c).length());
@@ -140,14 +145,16 @@ fn solve(leg: &Leg, root: DVec3, pose: &mut [DQuat; crate::skeleton::canonical::
     let r2 = axis1.map_or(DQuat::IDENTITY, |axis1| DQuat::from_axis_angle(a_global.inverse() * axis1, ac_at_0));
     pose[leg.hip] = (pose[leg.hip] * r0 * r2).normalize();
     pose[leg.knee] = (pose[leg.knee] * r1).normalize();
-    let knee_global = forward_kinematics(root, pose).1[leg.knee];
+    // The knee's new global rotation, as forward kinematics composes it (the pelvis is unchanged).
+    let knee_global = rot[leg.pelvis] * pose[leg.hip] * pose[leg.knee];
     pose[leg.ankle] = (knee_global.inverse() * foot_global).normalize();
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::skeleton::canonical::NUM_JOINTS;
+    use crate::motion::forward_kinematics;
+    use crate::skeleton::canonical::PARENTS;
 
     /// A standing pose whose left leg swings forward and back (hip rotation about X), root fixed.
     fn swinging(frames: usize) -> Motion {
@@ -195,14 +202,24 @@ mod tests {
         let m = swinging(1);
         let mut pose = m.rotations()[0];
         let root = m.root_positions()[0];
-        let (pos, _) = forward_kinematics(root, &pose);
+        let (pos, rot) = m.global_pose(0);
         let leg = &LEGS[0];
         let length = (pos[leg.knee] - pos[leg.hip]).length() + (pos[leg.ankle] - pos[leg.knee]).length();
         let far = pos[leg.hip] + (pos[leg.ankle] - pos[leg.hip]).normalize() * (2.0 * length);
-        solve(leg, root, &mut pose, far);
+        solve(leg, &pos, &rot, &mut pose, far);
         let (pos, _) = forward_kinematics(root, &pose);
         let stretch = (pos[leg.ankle] - pos[leg.hip]).length() / length;
         assert!((stretch - REACH).abs() < 1e-6, "stretched to {stretch}");
+    }
+
+    #[test]
+    fn each_leg_hangs_from_its_pelvis() {
+        for leg in &LEGS {
+            assert_eq!(PARENTS[leg.hip], Some(leg.pelvis));
+            assert_eq!(PARENTS[leg.knee], Some(leg.hip));
+            assert_eq!(PARENTS[leg.ankle], Some(leg.knee));
+            assert_eq!(PARENTS[leg.toes], Some(leg.ankle));
+        }
     }
 
     #[test]
