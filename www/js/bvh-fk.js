@@ -72,16 +72,17 @@ export function parseBvh(text) {
 /**
  * {names, parents, fps, frames, positions: Float32Array frames × joints × 3}. Only every step-th
  * frame is kept where the clip is faster than 60 fps or larger than `maxValues` positions (drawing
- * needs no more; the model gets the whole clip).
+ * needs no more; the model gets the whole clip). `Float`: the positions' array type (the npm
+ * package's tests compare outputs in Float64Array, with `maxValues = Infinity`).
  */
-export function bvhPositions(text, maxValues = 6_000_000) {
+export function bvhPositions(text, maxValues = 6_000_000, Float = Float32Array) {
   const parsed = parseBvh(text);
   const { names, parents, offsets, channels } = parsed;
   const n = names.length;
   const step = Math.max(1, Math.floor(parsed.frameTime > 0 ? 1 / (60 * parsed.frameTime) : 1), Math.ceil((parsed.rows.length * n * 3) / maxValues));
   const rows = step === 1 ? parsed.rows : parsed.rows.filter((_, i) => i % step === 0);
   const frameTime = parsed.frameTime * step;
-  const positions = new Float32Array(rows.length * n * 3);
+  const positions = new Float(rows.length * n * 3);
   const pos = new Array(n);
   const rot = new Array(n);
   rows.forEach((row, f) => {
