@@ -109,7 +109,7 @@ impl Tally {
         self.references.push(reference.to_vec());
     }
 
-    fn per_repeat(&self) -> [Option<f64>; 7] {
+    fn per_repeat(&self) -> [Option<f64>; COLUMNS.len()] {
         let mean = |v: &[f64]| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
         [
             (self.judged > 0).then(|| self.correct as f64 / self.judged as f64),
@@ -133,6 +133,7 @@ fn below(rng: &mut ChaCha8Rng, n: usize) -> usize {
 /// Runs the evaluation (see the module docs).
 pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Vec<Row>, StylizeError> {
     let judged_heldout: Vec<Judgement> = inputs.heldout.iter().map(|h| inputs.judge.judge(&h.motion)).collect();
+    let heldout_skate: Vec<(f64, usize)> = inputs.heldout.iter().map(|h| foot_skate_parts(&h.motion)).collect();
     let n_styles = inputs.judge.num_styles();
     let mut by_style: Vec<Vec<usize>> = vec![Vec::new(); n_styles];
     for (i, h) in inputs.heldout.iter().enumerate() {
@@ -142,7 +143,7 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Vec<
     }
     let styles: Vec<usize> = (0..n_styles).filter(|s| !by_style[*s].is_empty()).collect();
     let total = inputs.repeats * inputs.contents.len();
-    let mut per_row: Vec<Vec<[Option<f64>; 7]>> = vec![Vec::new(); ROWS.len()];
+    let mut per_row: Vec<Vec<[Option<f64>; COLUMNS.len()]>> = vec![Vec::new(); ROWS.len()];
     let mut done = 0;
     for r in 0..inputs.repeats {
         let mut rng = ChaCha8Rng::seed_from_u64(inputs.seed ^ (r as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
@@ -155,8 +156,8 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Vec<
             let others: Vec<usize> = same.iter().copied().filter(|&k| k != i).collect();
             let pick = if others.is_empty() { i } else { others[below(&mut rng, others.len())] };
             tallies[0].judge(judged_heldout[i].clone(), Some(style), &judged_heldout[pick].feature);
-            pool(&mut tallies[0].skate, foot_skate_parts(&h.motion));
-            pool(&mut tallies[0].reference_skate, foot_skate_parts(&inputs.heldout[pick].motion));
+            pool(&mut tallies[0].skate, heldout_skate[i]);
+            pool(&mut tallies[0].reference_skate, heldout_skate[pick]);
         }
 
         for content in inputs.contents {
@@ -170,7 +171,7 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Vec<
             let ref_feature = judged_heldout[ref_index].feature.clone();
             let seed = rng.next_u64();
             let label = Style(target as u8);
-            let reference_skate = foot_skate_parts(&reference.motion);
+            let reference_skate = heldout_skate[ref_index];
 
             // identity
             tallies[1].judge(inputs.judge.judge(&content.motion), Some(target), &ref_feature);
