@@ -25,9 +25,9 @@
 //! `dims.json`.
 
 use burn::prelude::*;
-use motion_stylizer::features::{self, DIM, View};
-use motion_stylizer::model::layers::one_hot;
-use motion_stylizer::model::{NoiseRng, Stylizer};
+use motion_stylizer::features::{self, DIM, ROOT_ANG_VEL, View};
+use motion_stylizer::model::layers::{channels, one_hot};
+use motion_stylizer::model::{Model, NoiseRng};
 use motion_stylizer::skeleton;
 use motion_stylizer::stylize::{self, DEFAULT_TEMPERATURE, Request, Setting, StyleSource, Weights};
 use std::time::Instant;
@@ -52,28 +52,25 @@ fn read_back(t: Tensor<3>) -> BoxResult<Vec<f32>> {
 }
 
 /// Motion-based: the network calls of `stylize::stylize` with `samples = 1`.
-fn net_motion(s: &Stylizer, content: Tensor<3>, style: Tensor<3>, label: usize) -> BoxResult<Vec<f32>> {
+fn net_motion(s: &Model, content: Tensor<3>, style: Tensor<3>, label: usize) -> BoxResult<Vec<f32>> {
     let code = s.content(s.encode(content.clone())?)?;
     let dist = s.style_distribution(s.encode(style)?, Some(&[label]))?;
-    let latent =
-        s.model.stylizer.generator.forward(code, dist.mean, Some(one_hot(&[label], s.config.num_styles, s.device())));
+    let latent = s.generate_with(code, dist.mean, Some(one_hot(&[label], s.config.num_styles, s.device())))?;
     finish(s, content, latent, 1)
 }
 
 /// Label-based with the given codes `[N, style_dim]` and one-hot labels `[N, S]`, one batch.
-fn net_label(s: &Stylizer, content: Tensor<3>, codes: Tensor<2>, labels: Tensor<2>) -> BoxResult<Vec<f32>> {
+fn net_label(s: &Model, content: Tensor<3>, codes: Tensor<2>, labels: Tensor<2>) -> BoxResult<Vec<f32>> {
     let n = codes.dims()[0];
     let code = s.content(s.encode(content.clone())?)?;
-    let latent = s.model.stylizer.generator.forward(code.repeat_dim(0, n), codes, Some(labels));
+    let latent = s.generate_with(code.repeat_dim(0, n), codes, Some(labels))?;
     finish(s, content, latent, n)
 }
 
 /// Decoder, regressor (with the content's angular velocity) and the output assembly, read back.
-fn finish(s: &Stylizer, content: Tensor<3>, latent: Tensor<3>, n: usize) -> BoxResult<Vec<f32>> {
-    let decoded = s.decode(latent)?;
-    let angular = content.narrow(1, 0, 1).repeat_dim(0, n);
-    let velocity = s.root_velocity(decoded.clone(), angular.clone())?;
-    read_back(Tensor::cat(vec![angular, velocity, decoded.narrow(1, 3, DIM - 3)], 1))
+fn finish(s: &Model, content: Tensor<3>, latent: Tensor<3>, n: usize) -> BoxResult<Vec<f32>> {
+    let angular = channels(content, ROOT_ANG_VEL).repeat_dim(0, n);
+    read_back(s.with_root(s.decode(latent)?, angular)?)
 }
 
 fn write_f32(path: &std::path::Path, values: &[f32]) -> BoxResult<()> {
@@ -111,7 +108,7 @@ fn main() -> BoxResult<()> {
     let weights =
         Weights::from_bytes(&read("manifest.json")?, &read("norm.json")?, Some(&read("supervised.bin")?), None)?;
     let load_ms = t.elapsed().as_secs_f64() * 1e3;
-    let s = weights.stylizer(Setting::Supervised)?;
+    let s = weights.model(Setting::Supervised)?;
     let device = s.device().clone();
     let old = weights.style("old")?;
     let label = old.index();

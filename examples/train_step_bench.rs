@@ -22,8 +22,8 @@ mod bench {
     use std::time::Instant;
 
     use burn::prelude::*;
-    use motion_stylizer::model::train::{AeTrainer, StylizerBatch, StylizerTrainer};
-    use motion_stylizer::model::{ModelConfig, MotionAutoencoder, NoiseRng, TrainConfig};
+    use motion_stylizer::model::{ModelConfig, MotionAutoencoder, NoiseRng};
+    use motion_stylizer::train::{AeTrainer, StylizerBatch, StylizerTrainer, TrainConfig};
 
     const B: usize = 16;
     const T: usize = 160;

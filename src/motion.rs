@@ -6,6 +6,7 @@
 
 use crate::bvh::{Axis, Bvh, BvhJoint, Channel};
 use crate::skeleton::canonical::{self, FPS, JOINT_NAMES, MIRROR, NUM_JOINTS, PARENTS};
+use crate::skeleton::fk;
 use glam::{DQuat, DVec3, EulerRot};
 use thiserror::Error;
 
@@ -146,22 +147,13 @@ fn leaf_end_site(j: usize) -> DVec3 {
     }
 }
 
-/// Forward kinematics on the canonical rig.
+/// Forward kinematics on the canonical rig: global positions and rotations from the Hips position
+/// and the local rotations ([`crate::skeleton::fk`]).
 pub fn forward_kinematics(root: DVec3, local: &Pose) -> ([DVec3; NUM_JOINTS], [DQuat; NUM_JOINTS]) {
     let mut pos = [DVec3::ZERO; NUM_JOINTS];
     let mut rot = [DQuat::IDENTITY; NUM_JOINTS];
-    for j in 0..NUM_JOINTS {
-        match PARENTS[j] {
-            None => {
-                pos[j] = root;
-                rot[j] = local[j];
-            }
-            Some(p) => {
-                pos[j] = pos[p] + rot[p] * canonical::offset(j);
-                rot[j] = rot[p] * local[j];
-            }
-        }
-    }
+    let translation = |j: usize| if j == 0 { root } else { canonical::offset(j) };
+    fk::forward_kinematics(|j| PARENTS[j], |j| (translation(j), local[j]), &mut pos, &mut rot);
     (pos, rot)
 }
 

@@ -7,13 +7,13 @@ use motion_stylizer::model::classifier::StyleClassifier;
 use motion_stylizer::model::layers::{
     AdaIn, conv1d_gemm, instance_norm, reflect_pad_time, upsample_nearest2, xavier_conv1d,
 };
-use motion_stylizer::model::losses::{kl_gaussians, kl_to_standard_normal, latent_smoothness, smooth_l1};
 use motion_stylizer::model::regressor::regressor_input;
 use motion_stylizer::model::weights::{from_f16_bytes, load_bundle, save_bundle, to_f16_bytes};
 use motion_stylizer::model::{
-    ContentEncoder, Generator, GlobalRegressor, ModelConfig, ModelError, MotionAutoencoder, MotionModel, NoiseRng,
-    StyleCode, StyleEncoder, StyleSampling, Stylizer,
+    ContentEncoder, Generator, GlobalRegressor, Model, ModelConfig, ModelError, MotionAutoencoder, MotionModel,
+    NoiseRng, StyleCode, StyleEncoder, StyleSampling,
 };
+use motion_stylizer::train::losses::{kl_gaussians, kl_to_standard_normal, latent_smoothness, smooth_l1};
 
 const T: usize = 32;
 
@@ -166,7 +166,7 @@ fn generator_output_depends_on_the_style_code() {
     }
     // In a supervised model the label alone changes the output too.
     let cfg = small(true);
-    let stylizer = Stylizer::seeded(cfg.clone(), &dev, 1);
+    let stylizer = Model::seeded(cfg.clone(), &dev, 1);
     let mut rng = NoiseRng::new(4);
     let content = features(&mut rng, 1, cfg.content_dim, 4);
     let code = rng.normal_tensor(1, cfg.style_dim, &dev);
@@ -178,8 +178,8 @@ fn generator_output_depends_on_the_style_code() {
 #[test]
 fn length_channel_and_label_rules_are_typed_errors() {
     let dev = device();
-    let sup = Stylizer::seeded(small(true), &dev, 2);
-    let unsup = Stylizer::seeded(small(false), &dev, 3);
+    let sup = Model::seeded(small(true), &dev, 2);
+    let unsup = Model::seeded(small(false), &dev, 3);
     let mut rng = NoiseRng::new(5);
     for bad in [12, 20, 33, 36] {
         let x = features(&mut rng, 1, 260, bad);
@@ -242,7 +242,7 @@ fn noise_is_seeded_and_standard_normal() {
     assert!(mean.abs() < 0.03 && (var - 1.0).abs() < 0.05, "{mean} {var}");
 }
 
-fn run_all_paths(stylizer: &Stylizer, seed: u64) -> Vec<Vec<f32>> {
+fn run_all_paths(stylizer: &Model, seed: u64) -> Vec<Vec<f32>> {
     let mut rng = NoiseRng::new(seed);
     let content = features(&mut rng, 2, 260, T);
     let style_motion = features(&mut rng, 2, 260, T);
@@ -265,7 +265,7 @@ fn run_all_paths(stylizer: &Stylizer, seed: u64) -> Vec<Vec<f32>> {
 #[test]
 fn same_seed_gives_bit_identical_outputs() {
     for supervised in [true, false] {
-        let build = || Stylizer::seeded(small(supervised), &device(), 11);
+        let build = || Model::seeded(small(supervised), &device(), 11);
         let (s1, s2) = (build(), build());
         let a = run_all_paths(&s1, 9);
         assert_eq!(a, run_all_paths(&s1, 9), "same model, same seed");
@@ -282,7 +282,7 @@ fn f16_weights_round_trip() {
     let dev = device();
     for cfg in [small(true), small(false).with_vae(true)] {
         let model = MotionModel::seeded(&cfg, &dev, 4);
-        let stylizer = Stylizer::new(cfg.clone(), model.clone());
+        let stylizer = Model::new(cfg.clone(), model.clone());
         let bytes = save_bundle(&cfg, model.clone()).unwrap();
         let params = model.num_params();
         // f16: 2 bytes per parameter plus a small header and the per-tensor index.
@@ -290,7 +290,7 @@ fn f16_weights_round_trip() {
         assert!(bytes.len() >= params * 2);
         let (cfg2, model2) = load_bundle(&bytes, &dev).unwrap();
         assert_eq!(cfg2, cfg);
-        let loaded = Stylizer::new(cfg2, model2);
+        let loaded = Model::new(cfg2, model2);
         let a = run_all_paths(&stylizer, 3);
         let b = run_all_paths(&loaded, 3);
         for (x, y) in a.iter().zip(&b) {
@@ -299,7 +299,7 @@ fn f16_weights_round_trip() {
             assert!(err < 2e-2 * scale, "f16 round trip error {err} (scale {scale})");
         }
         // Loaded weights are exactly the f16 values: saving again gives the same bytes.
-        let again = save_bundle(&loaded.config, loaded.model.clone()).unwrap();
+        let again = save_bundle(&loaded.config, loaded.nets.clone()).unwrap();
         assert_eq!(bytes.len(), again.len());
     }
     // One network alone, and bad bytes.

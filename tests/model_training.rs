@@ -3,9 +3,9 @@
 #![cfg(feature = "model")]
 
 use burn::prelude::*;
-use motion_stylizer::model::losses::partner_permutation;
-use motion_stylizer::model::train::{AeTrainer, StylizerBatch, StylizerTrainer};
-use motion_stylizer::model::{ModelConfig, ModelError, MotionAutoencoder, NoiseRng, TrainConfig};
+use motion_stylizer::model::{ModelConfig, ModelError, MotionAutoencoder, NoiseRng};
+use motion_stylizer::train::losses::partner_permutation;
+use motion_stylizer::train::{AeTrainer, StylizerBatch, StylizerTrainer, TrainConfig, Trainer};
 
 const T: usize = 32;
 
@@ -105,7 +105,7 @@ fn partner_permutation_pairs_rows() {
 
 #[test]
 fn style_classifier_learns_one_batch_and_checks_its_labels() {
-    use motion_stylizer::model::train::ClassifierTrainer;
+    use motion_stylizer::train::ClassifierTrainer;
     let dev = Device::flex();
     let mut trainer = ClassifierTrainer::new(cfg(true), fast_train(), &dev, 1);
     let x = features(&mut NoiseRng::new(5), 6, T);
@@ -125,7 +125,7 @@ fn style_classifier_learns_one_batch_and_checks_its_labels() {
 #[test]
 fn resumed_adam_state_gives_the_same_next_step() {
     use motion_stylizer::model::StyleClassifier;
-    use motion_stylizer::model::train::ClassifierTrainer;
+    use motion_stylizer::train::ClassifierTrainer;
     let dev = Device::flex();
     let x = features(&mut NoiseRng::new(5), 6, T);
     let labels = [0, 1, 2, 0, 1, 2];
@@ -145,7 +145,9 @@ fn resumed_adam_state_gives_the_same_next_step() {
     let (ra, rb) = (a.step(x.clone(), &labels).unwrap(), b.step(x.clone(), &labels).unwrap());
     c.step(x, &labels).unwrap();
     assert_eq!(ra.loss, rb.loss);
-    let weights = |t: &ClassifierTrainer| t.classifier.clone().valid().output.weight.val().into_data().to_vec::<f32>().unwrap();
+    let weights = |t: &ClassifierTrainer| {
+        t.classifier.clone().valid().output.weight.val().into_data().try_to_vec::<f32>().unwrap()
+    };
     assert_eq!(weights(&a), weights(&b), "same Adam state, same update");
     assert_ne!(weights(&a), weights(&c), "fresh moments make a different update");
     assert!(b.load_optimizer_state(&state[..state.len() - 1]).is_err());

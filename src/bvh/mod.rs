@@ -2,16 +2,19 @@
 //!
 //! The reader ([`Bvh::parse`]) never panics and bounds its work ([`Limits`]); the writer
 //! ([`Bvh::to_bvh_string`]) emits text that three.js's `BVHLoader` and our reader load back with the
-//! same pose. Kinematics (offsets, channels → local transforms) live here too because they are what the
-//! channels *mean*; rig semantics live in [`crate::skeleton`].
+//! same pose. Local transforms (offsets, channels → translation and rotation) live here too because they are
+//! what the channels *mean*; forward kinematics ([`crate::skeleton::fk`]) and rig semantics live in
+//! [`crate::skeleton`].
 
 mod error;
+mod lex;
 mod parse;
 mod write;
 
 pub use error::BvhError;
 pub use parse::{Limits, MAX_CHANNELS_PER_JOINT};
 
+use crate::skeleton::fk;
 use glam::{DQuat, DVec3};
 
 /// A coordinate axis, as named in a `CHANNELS` line.
@@ -120,25 +123,10 @@ impl Bvh {
         (t, r)
     }
 
-    /// Global joint positions and rotations at `frame` by forward kinematics.
+    /// Global joint positions and rotations at `frame` by forward kinematics
+    /// ([`crate::skeleton::fk`]).
     pub fn global_pose(&self, frame: usize) -> (Vec<DVec3>, Vec<DQuat>) {
-        let n = self.joints.len();
-        let mut pos = Vec::with_capacity(n);
-        let mut rot: Vec<DQuat> = Vec::with_capacity(n);
         let row = self.frame(frame);
-        for (i, j) in self.joints.iter().enumerate() {
-            let (t, r) = self.local_transform_in(row, i);
-            match j.parent {
-                None => {
-                    pos.push(t);
-                    rot.push(r);
-                }
-                Some(p) => {
-                    pos.push(pos[p] + rot[p] * t);
-                    rot.push(rot[p] * r);
-                }
-            }
-        }
-        (pos, rot)
+        fk::forward_kinematics_vec(self.joints.len(), |j| self.joints[j].parent, |j| self.local_transform_in(row, j))
     }
 }

@@ -7,8 +7,9 @@
 
 use burn::prelude::*;
 
-use super::config::{AE_INPUT_DIM, FEATURE_DIM, ModelConfig};
+use super::config::ModelConfig;
 use super::layers::{ConvLayer, ConvLayerConfig};
+use crate::features::{DIM, MODEL_DIM};
 
 /// What the motion encoder gives. For the plain AE `logvar` is `None` and `mean` is the latent.
 #[derive(Clone, Debug)]
@@ -33,7 +34,7 @@ impl MotionEncoder {
     pub fn new(cfg: &ModelConfig, device: &Device) -> Self {
         let out_dim = if cfg.vae { 2 * cfg.latent_dim } else { cfg.latent_dim };
         Self {
-            down1: ConvLayerConfig::new(AE_INPUT_DIM, cfg.ae_hidden, 3).down().dropout(cfg.dropout).init(device),
+            down1: ConvLayerConfig::new(MODEL_DIM, cfg.ae_hidden, 3).down().dropout(cfg.dropout).init(device),
             down2: ConvLayerConfig::new(cfg.ae_hidden, cfg.ae_mid, 3).down().dropout(cfg.dropout).init(device),
             out: ConvLayerConfig::new(cfg.ae_mid, out_dim, 1).linear_out().init(device),
             latent_dim: cfg.latent_dim,
@@ -68,7 +69,7 @@ impl MotionDecoder {
             first: ConvLayerConfig::new(cfg.latent_dim, cfg.latent_dim, 3).init(device),
             up1: ConvLayerConfig::new(cfg.latent_dim, cfg.ae_mid, 3).up().init(device),
             up2: ConvLayerConfig::new(cfg.ae_mid, cfg.ae_hidden, 3).up().init(device),
-            out: ConvLayerConfig::new(cfg.ae_hidden, FEATURE_DIM, 1).linear_out().init(device),
+            out: ConvLayerConfig::new(cfg.ae_hidden, DIM, 1).linear_out().init(device),
         }
     }
 
@@ -94,5 +95,5 @@ impl MotionAutoencoder {
 /// The autoencoder's input: the first 256 feature dims (contacts dropped). `[B, 260, T]` →
 /// `[B, 256, T]`.
 pub fn ae_input(features: Tensor<3>) -> Tensor<3> {
-    features.narrow(1, 0, AE_INPUT_DIM)
+    features.narrow(1, 0, MODEL_DIM)
 }

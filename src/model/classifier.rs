@@ -7,8 +7,9 @@
 use burn::nn::{Initializer, Linear, LinearConfig};
 use burn::prelude::*;
 
-use super::config::{AE_INPUT_DIM, ModelConfig};
+use super::config::ModelConfig;
 use super::layers::{ConvLayer, ConvLayerConfig};
+use crate::features::MODEL_DIM;
 
 #[derive(Module, Debug)]
 pub struct StyleClassifier {
@@ -33,7 +34,7 @@ impl StyleClassifier {
     pub fn new(cfg: &ModelConfig, device: &Device) -> Self {
         let [c0, c1, c2, c3] = cfg.classifier_hidden;
         Self {
-            down1: ConvLayerConfig::new(AE_INPUT_DIM, c0, 3).down().init(device),
+            down1: ConvLayerConfig::new(MODEL_DIM, c0, 3).down().init(device),
             down2: ConvLayerConfig::new(c0, c1, 3).down().init(device),
             down3: ConvLayerConfig::new(c1, c2, 3).down().init(device),
             down4: ConvLayerConfig::new(c2, c3, 3).down().init(device),

@@ -1,22 +1,13 @@
-//! Network sizes and training settings ([`ModelConfig`]), serialisable so a weights file can carry
-//! the exact architecture it was trained with.
+//! Network sizes ([`ModelConfig`]), serialisable so a weights file can carry the exact architecture
+//! it was trained with. The feature sizes the networks read and write are the feature layout's
+//! ([`crate::features::layout`]).
 //!
-//! Defaults are the paper's sizes (`/work/shared/reference/model-facts.md`); [`ModelConfig::scaled`]
+//! Defaults are the paper's sizes (as its authors' code fixes them); [`ModelConfig::scaled`]
 //! shrinks every *internal* width by one factor (input/output sizes fixed by the 260-D pose
 //! features stay as they are).
 
 use serde::{Deserialize, Serialize};
 
-/// Number of numbers per frame of the pose features.
-pub const FEATURE_DIM: usize = 260;
-/// Dims the motion autoencoder sees: the features without the 4 foot contacts.
-pub const AE_INPUT_DIM: usize = FEATURE_DIM - 4;
-/// Dims the global motion regressor sees: root angular velocity (1) + everything from the root
-/// height on without the contacts (253), i.e. the features minus the 2 root ground velocities and
-/// the 4 contacts. See [`crate::model::regressor`].
-pub const REGRESSOR_INPUT_DIM: usize = FEATURE_DIM - 4 - 2;
-/// The regressor predicts the root's ground velocity (x, z) in the facing frame.
-pub const REGRESSOR_OUTPUT_DIM: usize = 2;
 /// Clip lengths (frames) must be a multiple of this: the latent is at 1/4 rate, the content code
 /// at 1/8.
 pub const FRAME_MULTIPLE: usize = 8;
@@ -129,39 +120,5 @@ impl ModelConfig {
     /// 0 otherwise.
     pub fn label_dim(&self) -> usize {
         if self.supervised { self.num_styles } else { 0 }
-    }
-}
-
-/// Training settings from the paper / its code (model-facts.md, "Training").
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
-pub struct TrainConfig {
-    /// Adam learning rate of the autoencoder and the stylizer (1e-4).
-    pub lr: f64,
-    /// Adam learning rate of the global motion regressor (2e-4).
-    pub regressor_lr: f64,
-    /// Global gradient-norm clip, applied per network as `torch.nn.utils.clip_grad_norm_` (0.5).
-    pub grad_clip_norm: f32,
-    /// Autoencoder latent L1 sparsity weight (0.001).
-    pub lambda_l1: f32,
-    /// Autoencoder latent L1 smoothness weight (0.001).
-    pub lambda_smooth: f32,
-    /// VAE autoencoder KL weight (0.001).
-    pub lambda_ae_kl: f32,
-    /// Stylizer loss weights; `None` means the paper's for the model's (un)supervised mode.
-    pub stylizer_weights: Option<crate::model::losses::StylizerWeights>,
-}
-
-impl Default for TrainConfig {
-    fn default() -> Self {
-        Self {
-            lr: 1e-4,
-            regressor_lr: 2e-4,
-            grad_clip_norm: 0.5,
-            lambda_l1: 0.001,
-            lambda_smooth: 0.001,
-            lambda_ae_kl: 0.001,
-            stylizer_weights: None,
-        }
     }
 }

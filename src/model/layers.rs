@@ -1,7 +1,7 @@
 //! Building blocks: 1-D convolution layers over time (layout `[batch, channels, time]`) with
 //! reflection or zero padding, instance norm, AdaIN, LeakyReLU 0.2, nearest ×2 upsampling.
 //!
-//! Conventions (from the authors' released code, see model-facts.md):
+//! Conventions (from the authors' released code):
 //! - A "conv layer" is: [reflection pad k/2] → conv (stride 1 or 2) → [instance norm] →
 //!   [dropout] → [LeakyReLU 0.2]. For k3 the pad is 1 on each side, so stride 1 keeps the length
 //!   and stride 2 maps an even length `L` to exactly `L/2`.
@@ -70,6 +70,11 @@ pub fn one_hot(labels: &[usize], num_classes: usize, device: &Device) -> Tensor<
         data[row * num_classes + label] = 1.0;
     }
     Tensor::from_data(TensorData::new(data, [labels.len(), num_classes]), device)
+}
+
+/// The channels `range` of a `[B, C, T]` tensor (a slice of the feature layout, say).
+pub fn channels(x: Tensor<3>, range: std::ops::Range<usize>) -> Tensor<3> {
+    x.narrow(1, range.start, range.len())
 }
 
 /// Tiles a per-sample vector `[B, S]` over `len` time steps: `[B, S, len]`.

@@ -1,13 +1,14 @@
 //! The networks of "Generative Human Motion Stylization in Latent Space" (Guo et al., ICLR 2024)
-//! in Burn 0.22, their losses, training steps, seeded inference and compact f16 weights.
+//! in Burn 0.22: architecture, seeded inference and compact f16 weights — what the wasm build
+//! ships. Their losses and training steps are [`crate::train`]'s (native only).
 //!
 //! Layout of every sequence tensor: `[batch, channels, time]`. Frame counts `T` are multiples of 8:
 //! motion latent at `T/4` ([`autoencoder`]), content code at `T/8` ([`content`]), one global style
 //! code per clip ([`style`]), recombined by the AdaIN [`generator`] into a latent at `T/4`.
 //!
 //! Stages (as the paper): 1. motion autoencoder + global motion [`regressor`] on all data;
-//! 2. the stylizer (content encoder, style encoder, generator) on frozen latents
-//! ([`train::StylizerTrainer`]). Inference without autodiff: [`Stylizer`].
+//! 2. the [`Stylizer`] (content encoder, style encoder, generator) on frozen latents. Inference
+//! without autodiff, every input checked: [`Model`].
 //!
 //! Burn 0.22 notes: tensors are `Tensor<D>` (no backend type parameter); the backend is the
 //! runtime [`Device`](burn::tensor::Device) (`Device::flex()`, `Device::ndarray()` with the
@@ -21,24 +22,21 @@ pub mod content;
 pub mod generator;
 pub mod init;
 pub mod layers;
-pub mod losses;
 pub mod regressor;
 pub mod rng;
 pub mod style;
 pub mod stylizer;
-pub mod train;
 pub mod weights;
 
 pub use autoencoder::{MotionAutoencoder, MotionDecoder, MotionEncoder};
 pub use classifier::StyleClassifier;
-pub use config::{ModelConfig, TrainConfig};
+pub use config::ModelConfig;
 pub use content::ContentEncoder;
 pub use generator::Generator;
-pub use losses::StylizerWeights;
 pub use regressor::GlobalRegressor;
 pub use rng::NoiseRng;
 pub use style::{StyleDistribution, StyleEncoder};
-pub use stylizer::{MotionModel, StyleCode, StyleSampling, Stylizer, StylizerNet};
+pub use stylizer::{Model, MotionModel, StyleCode, StyleSampling, Stylizer, check_features, check_frames};
 
 /// Errors of the model API (bad shapes or labels, bad weight bytes). Nothing here panics on user
 /// input.

@@ -10,8 +10,9 @@
 
 use burn::prelude::*;
 
-use super::config::{AE_INPUT_DIM, ModelConfig, REGRESSOR_INPUT_DIM, REGRESSOR_OUTPUT_DIM};
-use super::layers::{ConvLayer, ConvLayerConfig};
+use super::config::ModelConfig;
+use super::layers::{ConvLayer, ConvLayerConfig, channels};
+use crate::features::{MODEL_DIM, REGRESSOR_DIM, ROOT_ANG_VEL, ROOT_HEIGHT, ROOT_LIN_VEL};
 
 #[derive(Module, Debug)]
 pub struct GlobalRegressor {
@@ -25,10 +26,10 @@ impl GlobalRegressor {
     pub fn new(cfg: &ModelConfig, device: &Device) -> Self {
         let [r0, r1, r2] = cfg.regressor_hidden;
         Self {
-            conv1: ConvLayerConfig::new(REGRESSOR_INPUT_DIM, r0, 3).init(device),
+            conv1: ConvLayerConfig::new(REGRESSOR_DIM, r0, 3).init(device),
             conv2: ConvLayerConfig::new(r0, r1, 3).init(device),
             conv3: ConvLayerConfig::new(r1, r2, 3).init(device),
-            out: ConvLayerConfig::new(r2, REGRESSOR_OUTPUT_DIM, 1).linear_out().no_bias().init(device),
+            out: ConvLayerConfig::new(r2, ROOT_LIN_VEL.len(), 1).linear_out().no_bias().init(device),
         }
     }
 
@@ -40,16 +41,16 @@ impl GlobalRegressor {
 
 /// The regressor's input from full features `[B, 260, T]`: feature 0 and features 3..256.
 pub fn regressor_input(features: Tensor<3>) -> Tensor<3> {
-    regressor_input_from(features.clone().narrow(1, 0, 1), features)
+    regressor_input_from(channels(features.clone(), ROOT_ANG_VEL), features)
 }
 
 /// The regressor's input with the root angular velocity `[B, 1, T]` taken from elsewhere (the
 /// content motion at inference) and the rest from `features` `[B, 260, T]`.
 pub fn regressor_input_from(angular_velocity: Tensor<3>, features: Tensor<3>) -> Tensor<3> {
-    Tensor::cat(vec![angular_velocity, features.narrow(1, 3, AE_INPUT_DIM - 3)], 1)
+    Tensor::cat(vec![angular_velocity, channels(features, ROOT_HEIGHT.start..MODEL_DIM)], 1)
 }
 
 /// The regressor's target from full features: the root ground velocity, features 1..3.
 pub fn regressor_target(features: Tensor<3>) -> Tensor<3> {
-    features.narrow(1, 1, REGRESSOR_OUTPUT_DIM)
+    channels(features, ROOT_LIN_VEL)
 }

@@ -58,7 +58,7 @@ impl StyleEncoder {
     }
 
     /// `z`: `[B, D_z, L]`; `label`: one-hot `[B, S]`, required iff the encoder is supervised
-    /// (callers check; see [`crate::model::Stylizer`]).
+    /// (callers check; see [`crate::model::Model`]).
     pub fn forward(&self, z: Tensor<3>, label: Option<Tensor<2>>) -> StyleDistribution {
         let h = self.down1.forward(z);
         let h = match label {

@@ -1,30 +1,32 @@
-//! The stylizer networks as one module, the whole model, and the inference API ([`Stylizer`]):
-//! plain (non-autodiff) device, every shape and label checked with a typed error, all randomness
-//! from a caller-owned seeded [`NoiseRng`] (bit-identical across runs and, by construction, across
-//! native and wasm).
+//! The stylizer (the stage-2 networks as one module), the whole model, and the inference API
+//! ([`Model`]): plain (non-autodiff) device, every shape and label checked with a typed error, all
+//! randomness from a caller-owned seeded [`NoiseRng`] (bit-identical across runs and, by
+//! construction, across native and wasm).
 
 use burn::prelude::*;
 
 use super::ModelError;
 use super::autoencoder::{MotionAutoencoder, ae_input};
-use super::config::{AE_INPUT_DIM, FEATURE_DIM, FRAME_MULTIPLE, ModelConfig};
+use super::config::{FRAME_MULTIPLE, ModelConfig};
 use super::content::ContentEncoder;
 use super::generator::Generator;
 use super::init::seeded_xavier;
-use super::layers::one_hot;
+use super::layers::{channels as feature_slice, one_hot};
 use super::regressor::{GlobalRegressor, regressor_input_from};
 use super::rng::NoiseRng;
 use super::style::{StyleDistribution, StyleEncoder};
+use crate::features::{DIM, MODEL_DIM, ROOT_ANG_VEL, ROOT_HEIGHT};
 
-/// Content encoder, style encoder and generator: what the stylizer stage trains.
+/// The stylizer: content encoder, style encoder and generator, what the second training stage
+/// trains (one per setting: supervised, unsupervised).
 #[derive(Module, Debug)]
-pub struct StylizerNet {
+pub struct Stylizer {
     pub content_encoder: ContentEncoder,
     pub style_encoder: StyleEncoder,
     pub generator: Generator,
 }
 
-impl StylizerNet {
+impl Stylizer {
     pub fn new(cfg: &ModelConfig, device: &Device) -> Self {
         Self {
             content_encoder: ContentEncoder::new(cfg, device),
@@ -38,7 +40,7 @@ impl StylizerNet {
 #[derive(Module, Debug)]
 pub struct MotionModel {
     pub autoencoder: MotionAutoencoder,
-    pub stylizer: StylizerNet,
+    pub stylizer: Stylizer,
     pub regressor: GlobalRegressor,
 }
 
@@ -49,7 +51,7 @@ impl MotionModel {
     pub fn new(cfg: &ModelConfig, device: &Device) -> Self {
         Self {
             autoencoder: MotionAutoencoder::new(cfg, device),
-            stylizer: StylizerNet::new(cfg, device),
+            stylizer: Stylizer::new(cfg, device),
             regressor: GlobalRegressor::new(cfg, device),
         }
     }
@@ -79,11 +81,11 @@ pub struct StyleCode {
     pub labels: Option<Vec<usize>>,
 }
 
-/// The inference model.
+/// The inference model of one setting: its networks with every input checked.
 #[derive(Debug)]
-pub struct Stylizer {
+pub struct Model {
     pub config: ModelConfig,
-    pub model: MotionModel,
+    pub nets: MotionModel,
     device: Device,
 }
 
@@ -100,19 +102,26 @@ pub fn check_frames(frames: usize) -> Result<(), ModelError> {
     }
 }
 
-impl Stylizer {
+/// Checks training features: `[B, 260, T]` with `T` a positive multiple of 8.
+pub fn check_features(what: &'static str, x: &Tensor<3>) -> Result<(), ModelError> {
+    let [_, c, t] = x.dims();
+    channels(what, c, DIM)?;
+    check_frames(t)
+}
+
+impl Model {
     /// Wraps trained networks for inference: takes their validation copy (no autodiff, dropout
     /// off) on the device of their parameters.
-    pub fn new(config: ModelConfig, model: MotionModel) -> Self {
-        let model = model.valid();
-        let device = model.devices().into_iter().next().unwrap_or_else(|| panic!("the model has no parameters"));
-        Self { config, model, device }
+    pub fn new(config: ModelConfig, nets: MotionModel) -> Self {
+        let nets = nets.valid();
+        let device = nets.devices().into_iter().next().unwrap_or_else(|| panic!("the model has no parameters"));
+        Self { config, nets, device }
     }
 
     /// Untrained networks on `device`, weights from `seed` (tests, benchmarks).
     pub fn seeded(config: ModelConfig, device: &Device, seed: u64) -> Self {
-        let model = MotionModel::seeded(&config, device, seed);
-        Self::new(config, model)
+        let nets = MotionModel::seeded(&config, device, seed);
+        Self::new(config, nets)
     }
 
     pub fn device(&self) -> &Device {
@@ -145,11 +154,11 @@ impl Stylizer {
         let [_, c, t] = features.dims();
         check_frames(t)?;
         let x = match c {
-            FEATURE_DIM => ae_input(features),
-            AE_INPUT_DIM => features,
-            _ => return Err(ModelError::Channels { what: "pose features", expected: FEATURE_DIM, got: c }),
+            DIM => ae_input(features),
+            MODEL_DIM => features,
+            _ => return Err(ModelError::Channels { what: "pose features", expected: DIM, got: c }),
         };
-        Ok(self.model.autoencoder.encoder.forward(x).mean)
+        Ok(self.nets.autoencoder.encoder.forward(x).mean)
     }
 
     /// Motion latent `[B, D_z, L]` (L even) → content code `[B, D_c, L/2]`.
@@ -159,7 +168,7 @@ impl Stylizer {
         if l == 0 || !l.is_multiple_of(2) {
             return Err(ModelError::LatentLength { len: l });
         }
-        Ok(self.model.stylizer.content_encoder.forward(latent))
+        Ok(self.nets.stylizer.content_encoder.forward(latent))
     }
 
     /// The style posterior of a motion latent `[B, D_z, L]`; `labels` (one per row) iff the model
@@ -175,7 +184,7 @@ impl Stylizer {
             return Err(ModelError::LatentLength { len: l });
         }
         let label = self.labels_tensor(labels, b)?;
-        Ok(self.model.stylizer.style_encoder.forward(latent, label))
+        Ok(self.nets.stylizer.style_encoder.forward(latent, label))
     }
 
     /// Motion-based style: the posterior of the style motion's latent, its mean or a sample.
@@ -218,18 +227,41 @@ impl Stylizer {
 
     /// Content code `[B, D_c, L]` + style → motion latent `[B, D_z, 2L]`.
     pub fn generate(&self, content: Tensor<3>, style: &StyleCode) -> Result<Tensor<3>, ModelError> {
+        let label = self.labels_tensor(style.labels.as_deref(), style.code.dims()[0])?;
+        self.generate_with(content, style.code.clone(), label)
+    }
+
+    /// [`Model::generate`] with the labels as rows `[B, num_styles]` (one-hot, or mixes of two
+    /// labels), given iff the model is supervised.
+    pub fn generate_with(
+        &self,
+        content: Tensor<3>,
+        code: Tensor<2>,
+        label: Option<Tensor<2>>,
+    ) -> Result<Tensor<3>, ModelError> {
         let [b, c, l] = content.dims();
         channels("content code", c, self.config.content_dim)?;
         if l == 0 {
             return Err(ModelError::LatentLength { len: 0 });
         }
-        let [sb, sc] = style.code.dims();
+        let [sb, sc] = code.dims();
         channels("style code", sc, self.config.style_dim)?;
         if sb != b {
             return Err(ModelError::BatchSize { what: "style code", expected: b, got: sb });
         }
-        let label = self.labels_tensor(style.labels.as_deref(), b)?;
-        Ok(self.model.stylizer.generator.forward(content, style.code.clone(), label))
+        match (&label, self.config.supervised) {
+            (None, false) => {}
+            (Some(_), false) => return Err(ModelError::Label("the unsupervised model takes no style label".into())),
+            (None, true) => return Err(ModelError::Label("the supervised model needs a style label per clip".into())),
+            (Some(rows), true) => {
+                let [lb, lc] = rows.dims();
+                channels("style labels", lc, self.config.num_styles)?;
+                if lb != b {
+                    return Err(ModelError::BatchSize { what: "style labels", expected: b, got: lb });
+                }
+            }
+        }
+        Ok(self.nets.stylizer.generator.forward(content, code, label))
     }
 
     /// Motion latent `[B, D_z, L]` → features `[B, 260, 4L]` (normalised, as the training data).
@@ -239,27 +271,33 @@ impl Stylizer {
         if l == 0 {
             return Err(ModelError::LatentLength { len: 0 });
         }
-        Ok(self.model.autoencoder.decoder.forward(latent))
+        Ok(self.nets.autoencoder.decoder.forward(latent))
     }
 
     /// Root ground velocity `[B, 2, T]` predicted from `features` `[B, 260, T]`, with the root
     /// angular velocity taken from `angular_velocity` `[B, 1, T]` (the content motion's).
     pub fn root_velocity(&self, features: Tensor<3>, angular_velocity: Tensor<3>) -> Result<Tensor<3>, ModelError> {
-        channels("pose features", features.dims()[1], FEATURE_DIM)?;
+        channels("pose features", features.dims()[1], DIM)?;
         channels("angular velocity", angular_velocity.dims()[1], 1)?;
-        Ok(self.model.regressor.forward(regressor_input_from(angular_velocity, features)))
+        Ok(self.nets.regressor.forward(regressor_input_from(angular_velocity, features)))
+    }
+
+    /// The output features `[B, 260, T]` of decoded features `[B, 260, T]`: the root angular
+    /// velocity `[B, 1, T]` given (the content's), the root ground velocity from the regressor,
+    /// everything from the root height on the decoder's (paper §3.3, and the reference's generation
+    /// script).
+    pub fn with_root(&self, decoded: Tensor<3>, angular_velocity: Tensor<3>) -> Result<Tensor<3>, ModelError> {
+        let velocity = self.root_velocity(decoded.clone(), angular_velocity.clone())?;
+        Ok(Tensor::cat(vec![angular_velocity, velocity, feature_slice(decoded, ROOT_HEIGHT.start..DIM)], 1))
     }
 
     /// End to end: content motion features `[B, 260, T]` + a style → stylized features
-    /// `[B, 260, T]`, with the content's root angular velocity and the regressor's root ground
-    /// velocity (paper §3.3, and the reference's generation script).
+    /// `[B, 260, T]`, with the content's root angular velocity ([`Model::with_root`]).
     pub fn stylize(&self, content_features: Tensor<3>, style: &StyleCode) -> Result<Tensor<3>, ModelError> {
-        channels("pose features", content_features.dims()[1], FEATURE_DIM)?;
+        channels("pose features", content_features.dims()[1], DIM)?;
         let latent = self.encode(content_features.clone())?;
         let content = self.content(latent)?;
         let out = self.decode(self.generate(content, style)?)?;
-        let angular = content_features.narrow(1, 0, 1);
-        let velocity = self.root_velocity(out.clone(), angular.clone())?;
-        Ok(Tensor::cat(vec![angular, velocity, out.narrow(1, 3, FEATURE_DIM - 3)], 1))
+        self.with_root(out, feature_slice(content_features, ROOT_ANG_VEL))
     }
 }

@@ -5,8 +5,11 @@
 //! initialised, so nothing random is computed) module of the same architecture and casts the
 //! parameters back to F32.
 //!
-//! A *bundle* ([`save_bundle`] / [`load_bundle`]) carries the [`ModelConfig`] too:
-//! `b"MSTYLZ01"` | config JSON length (u32 LE) | config JSON | burnpack bytes of a [`MotionModel`].
+//! Every file of ours that carries weights has one framing ([`frame`] / [`unframe`]): an 8-byte
+//! magic | JSON header length (u32 LE) | JSON header | payload. A *bundle* ([`save_bundle`] /
+//! [`load_bundle`]) is `b"MSTYLZ01"` with the [`ModelConfig`] as header and the burnpack bytes of a
+//! [`MotionModel`] as payload; the evaluation's classifier is `b"MSTYCL01"`, the same way; training
+//! checkpoints frame their metadata and f32 weights the same way too.
 
 use burn::module::{Module, ModuleMapper, Param};
 use burn::prelude::*;
@@ -14,8 +17,8 @@ use burn::store::ModuleRecord;
 use burn::tensor::{Bytes, FloatDType};
 
 use super::ModelError;
-use super::config::ModelConfig;
 use super::classifier::StyleClassifier;
+use super::config::ModelConfig;
 use super::stylizer::MotionModel;
 
 const BUNDLE_MAGIC: &[u8; 8] = b"MSTYLZ01";
@@ -77,23 +80,50 @@ pub fn load_classifier(bytes: &[u8], device: &Device) -> Result<(ModelConfig, St
 
 fn save_with<M: Module>(magic: &[u8; 8], config: &ModelConfig, module: M) -> Result<Vec<u8>, ModelError> {
     let json = serde_json::to_vec(config).map_err(weights_err)?;
-    let weights = to_f16_bytes(module)?;
-    let mut out = Vec::with_capacity(12 + json.len() + weights.len());
+    Ok(frame(magic, &json, &to_f16_bytes(module)?))
+}
+
+/// `magic` | `header.len()` (u32 LE) | `header` | `payload`.
+pub fn frame(magic: &[u8; 8], header: &[u8], payload: &[u8]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(12 + header.len() + payload.len());
     out.extend_from_slice(magic);
-    out.extend_from_slice(&(json.len() as u32).to_le_bytes());
-    out.extend_from_slice(&json);
-    out.extend_from_slice(&weights);
-    Ok(out)
+    out.extend_from_slice(&(header.len() as u32).to_le_bytes());
+    out.extend_from_slice(header);
+    out.extend_from_slice(payload);
+    out
+}
+
+/// Why bytes are not a [`frame`] with the expected magic.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrameError {
+    /// Another magic, or fewer bytes than a magic and a length.
+    NotOurs,
+    /// The header is longer than the bytes.
+    Truncated,
+}
+
+/// The header and the payload of a [`frame`] with `magic`.
+pub fn unframe<'a>(magic: &[u8; 8], bytes: &'a [u8]) -> Result<(&'a [u8], &'a [u8]), FrameError> {
+    let (found, rest) = bytes.split_first_chunk::<8>().ok_or(FrameError::NotOurs)?;
+    if found != magic {
+        return Err(FrameError::NotOurs);
+    }
+    let (len, rest) = rest.split_first_chunk::<4>().ok_or(FrameError::NotOurs)?;
+    let len = usize::try_from(u32::from_le_bytes(*len)).map_err(|_| FrameError::Truncated)?;
+    rest.split_at_checked(len).ok_or(FrameError::Truncated)
+}
+
+/// The config of a bundle, read from its header without touching the weights.
+pub fn bundle_config(bytes: &[u8]) -> Result<(ModelConfig, &[u8]), ModelError> {
+    split_bundle(BUNDLE_MAGIC, "a motion-stylizer weights bundle", bytes)
 }
 
 /// The config and the weight bytes of a bundle with `magic`.
 fn split_bundle<'a>(magic: &[u8; 8], what: &str, bytes: &'a [u8]) -> Result<(ModelConfig, &'a [u8]), ModelError> {
-    let header = magic.len() + 4;
-    if bytes.len() < header || &bytes[..8] != magic {
-        return Err(ModelError::Weights(format!("not {what}")));
-    }
-    let len = u32::from_le_bytes(bytes[8..12].try_into().expect("4 bytes")) as usize;
-    let json = bytes.get(header..header.saturating_add(len)).ok_or_else(|| ModelError::Weights("truncated bundle".into()))?;
-    let config: ModelConfig = serde_json::from_slice(json).map_err(weights_err)?;
-    Ok((config, &bytes[header + len..]))
+    let (json, weights) = unframe(magic, bytes).map_err(|e| match e {
+        FrameError::NotOurs => ModelError::Weights(format!("not {what}")),
+        FrameError::Truncated => ModelError::Weights(format!("not {what} (truncated)")),
+    })?;
+    let config: ModelConfig = serde_json::from_slice(json).map_err(|e| ModelError::Weights(format!("config: {e}")))?;
+    Ok((config, weights))
 }

@@ -7,11 +7,14 @@
 //! ([`UserRig::from_canonical`]). See [`retarget`] for the method.
 
 pub mod canonical;
+pub mod fk;
 mod import;
 pub mod resample;
 pub mod retarget;
+mod rig_names;
 pub mod rigs;
 pub mod rotation;
+mod tpose;
 
 pub use canonical::{FPS, JOINT_NAMES, NUM_JOINTS};
 pub use import::{ImportError, Imported, canonical_bvh, import, import_bvh};

@@ -40,7 +40,8 @@ use super::ImportError;
 use super::canonical::{self, JOINT_NAMES, NUM_JOINTS, PARENTS, joint::*};
 use super::resample;
 use super::rigs::{self, JointMap};
-use super::rotation::{align_two, angle, decompose, swing, world_basis};
+use super::rotation::decompose;
+use super::tpose::{Core, build, canonical_tpose, degenerate};
 use crate::bvh::{Axis, Bvh, BvhJoint, Channel};
 use crate::motion::{Motion, Pose, forward_kinematics};
 use glam::{DQuat, DVec3};
@@ -101,18 +102,6 @@ pub struct UserRig {
     report: RigReport,
 }
 
-/// Geometry derived from a base pose.
-struct Core {
-    t_global: Vec<DQuat>,
-    world: DQuat,
-    scale: f64,
-    max_swing: f64,
-}
-
-fn degenerate(reason: impl Into<String>) -> ImportError {
-    ImportError::Degenerate { reason: reason.into() }
-}
-
 /// What [`Bvh::parse`] guarantees, checked for hand-built values: a root first, parents before
 /// children, channel offsets in order, `frames × channels` values, a positive frame time.
 fn well_formed(bvh: &Bvh) -> Result<(), ImportError> {
@@ -134,30 +123,6 @@ fn well_formed(bvh: &Bvh) -> Result<(), ImportError> {
         return Err(degenerate("the frame time must be positive"));
     }
     Ok(())
-}
-
-/// Canonical T-pose global positions (Hips at the origin).
-fn canonical_tpose() -> [DVec3; NUM_JOINTS] {
-    forward_kinematics(DVec3::ZERO, &[DQuat::IDENTITY; NUM_JOINTS]).0
-}
-
-/// Forward kinematics from rest translations `rest_t` and given local rotations.
-fn fk(joints: &[BvhJoint], rest_t: &[DVec3], local: &[DQuat]) -> (Vec<DVec3>, Vec<DQuat>) {
-    let mut pos = Vec::with_capacity(joints.len());
-    let mut rot: Vec<DQuat> = Vec::with_capacity(joints.len());
-    for (u, j) in joints.iter().enumerate() {
-        match j.parent {
-            None => {
-                pos.push(rest_t[u]);
-                rot.push(local[u]);
-            }
-            Some(p) => {
-                pos.push(pos[p] + rot[p] * rest_t[u]);
-                rot.push(rot[p] * local[u]);
-            }
-        }
-    }
-    (pos, rot)
 }
 
 /// Linear-interpolated percentile (`p` in [0, 1]) of `v`; NaN sorts last.
@@ -183,22 +148,6 @@ fn axis_name(v: DVec3) -> String {
 }
 
 const FEET: [usize; 4] = [FOOT_L, TOES_L, FOOT_R, TOES_R];
-const CENTRE: [usize; 4] = [SPINE, CHEST, NECK, HEAD];
-const ARM_L: [usize; 4] = [SHOULDER_L, UPPER_ARM_L, LOWER_ARM_L, HAND_L];
-const ARM_R: [usize; 4] = [SHOULDER_R, UPPER_ARM_R, LOWER_ARM_R, HAND_R];
-const LEG_L: [usize; 4] = [UPPER_LEG_L, LOWER_LEG_L, FOOT_L, TOES_L];
-const LEG_R: [usize; 4] = [UPPER_LEG_R, LOWER_LEG_R, FOOT_R, TOES_R];
-
-/// How a matched joint's T-pose rotation is found.
-enum Aim {
-    /// Leaf: inherit.
-    None,
-    /// Swing the bone towards canonical joint `to`.
-    Swing(usize),
-    /// Align up (towards canonical joint `up`) and across (left joint minus right joint).
-    Two { up: usize, left: usize, right: usize },
-}
-
 impl UserRig {
     /// Detects the rig of `bvh` (its hierarchy; the frames only serve as base pose when the rest pose
     /// is no use, and to measure the floor) and derives the retargeting.
@@ -542,119 +491,6 @@ impl UserRig {
     }
 }
 
-/// T-pose, world basis and scale of a rig in base pose `base_local`.
-fn build(
-    joints: &[BvhJoint],
-    rest_t: &[DVec3],
-    map: &JointMap,
-    inverse: &[Option<usize>],
-    base_local: &[DQuat],
-) -> Result<Core, ImportError> {
-    let (pos0, g0) = fk(joints, rest_t, base_local);
-    let matched_pos: Vec<DVec3> = map.iter().flatten().map(|&u| pos0[u]).collect();
-    let hips = map[HIPS].expect("required");
-    let size = matched_pos.iter().map(|p| (*p - pos0[hips]).length()).fold(0.0, f64::max);
-    if !(size.is_finite() && size > 0.0) || g0.iter().any(|q| !q.is_finite()) {
-        return Err(degenerate("the skeleton has no extent"));
-    }
-    let eps = 1e-6 * size;
-    let p = |j: usize| map[j].map(|u| pos0[u]);
-    let distinct = |a: usize, b: usize| match (p(a), p(b)) {
-        (Some(x), Some(y)) => (x - y).length() > eps,
-        _ => false,
-    };
-    let first_pair =
-        |pairs: (&[usize], &[usize])| pairs.0.iter().zip(pairs.1).map(|(&l, &r)| (l, r)).find(|&(l, r)| distinct(l, r));
-
-    // World basis.
-    let up = p(HEAD).expect("required") - pos0[hips];
-    let (l, r) = first_pair((&LEG_L, &LEG_R)).ok_or_else(|| degenerate("the left and right legs coincide"))?;
-    if up.length() <= eps {
-        return Err(degenerate("the Head is at the Hips"));
-    }
-    let world = world_basis(up, p(l).expect("matched") - p(r).expect("matched"))
-        .ok_or_else(|| degenerate("cannot tell up from left: the hips line up with the Head"))?;
-    let wi = world.inverse();
-
-    // Aims.
-    let arm_root = {
-        let first = if map[SHOULDER_L].is_some() { SHOULDER_L } else { UPPER_ARM_L };
-        let mut a = PARENTS[first];
-        while let Some(x) = a {
-            if map[x].is_some() {
-                break;
-            }
-            a = PARENTS[x];
-        }
-        a.unwrap_or(HIPS)
-    };
-    let first_after = |j: usize, list: &[usize]| -> Option<usize> {
-        let start = list.iter().position(|&x| x == j).map(|i| i + 1).unwrap_or(0);
-        list[start..].iter().copied().find(|&x| map[x].is_some() && distinct(j, x))
-    };
-    let aim = |j: usize| -> Result<Aim, ImportError> {
-        if j == HIPS || j == arm_root {
-            let up = first_after(j, &CENTRE).ok_or_else(|| degenerate("the spine has no length"))?;
-            let pairs = if j == HIPS { (&LEG_L, &LEG_R) } else { (&ARM_L, &ARM_R) };
-            return match first_pair((pairs.0, pairs.1)) {
-                Some((left, right)) => Ok(Aim::Two { up, left, right }),
-                None if j == HIPS => Err(degenerate("the left and right legs coincide")),
-                None => Ok(Aim::Swing(up)),
-            };
-        }
-        let chain: &[usize] = [&CENTRE, &ARM_L, &ARM_R, &LEG_L, &LEG_R]
-            .into_iter()
-            .find(|c| c.contains(&j))
-            .map(|c| c.as_slice())
-            .unwrap_or(&[]);
-        Ok(first_after(j, chain).map(Aim::Swing).unwrap_or(Aim::None))
-    };
-
-    let can = canonical_tpose();
-    let mut t_global = vec![DQuat::IDENTITY; joints.len()];
-    let mut max_swing = 0.0f64;
-    for (u, joint) in joints.iter().enumerate() {
-        let cur = match joint.parent {
-            Some(q) => t_global[q] * base_local[u],
-            None => base_local[u],
-        };
-        t_global[u] = cur;
-        let Some(j) = inverse[u] else { continue };
-        // Vector from u to a user joint, in the current (partly corrected) pose, canonical world.
-        let g0_inv = g0[u].inverse();
-        let vec_to = |x: usize| world * (cur * (g0_inv * (pos0[map[x].expect("matched")] - pos0[u])));
-        let s = match aim(j)? {
-            Aim::None => DQuat::IDENTITY,
-            Aim::Swing(x) => swing(vec_to(x), can[x] - can[j], DVec3::Z)
-                .ok_or_else(|| degenerate(format!("bone {} has no direction", JOINT_NAMES[j])))?,
-            Aim::Two { up, left, right } => {
-                align_two(vec_to(up), vec_to(left) - vec_to(right), can[up] - can[j], can[left] - can[right])
-                    .ok_or_else(|| degenerate(format!("{}: up and across are parallel", JOINT_NAMES[j])))?
-            }
-        };
-        max_swing = max_swing.max(angle(s));
-        t_global[u] = (wi * s * world * cur).normalize();
-    }
-
-    // Scale: Hips height above the toes (ankles if a side lacks toes) in both T-poses.
-    let mut pos_t = vec![DVec3::ZERO; joints.len()];
-    for (u, joint) in joints.iter().enumerate() {
-        pos_t[u] = match joint.parent {
-            Some(q) => pos_t[q] + t_global[q] * rest_t[u],
-            None => rest_t[u],
-        };
-    }
-    let ends = if map[TOES_L].is_some() && map[TOES_R].is_some() { [TOES_L, TOES_R] } else { [FOOT_L, FOOT_R] };
-    let h_user: f64 =
-        ends.iter().map(|&e| (world * (pos_t[hips] - pos_t[map[e].expect("matched")])).y).sum::<f64>() / 2.0;
-    let h_can: f64 = ends.iter().map(|&e| can[HIPS].y - can[e].y).sum::<f64>() / 2.0;
-    let scale = h_can / h_user;
-    if !(h_user > eps && scale.is_finite() && scale > 0.0) {
-        return Err(degenerate("the legs have no height"));
-    }
-    Ok(Core { t_global, world, scale, max_swing })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -666,11 +502,5 @@ mod tests {
         assert_eq!(percentile(&mut v, 0.5), 3.0);
         assert!((percentile(&mut v, 0.05) - 1.2).abs() < 1e-12);
         assert_eq!(percentile(&mut [7.0], 0.05), 7.0);
-    }
-
-    #[test]
-    fn canonical_tpose_leg_height_is_leg_length() {
-        let c = canonical_tpose();
-        assert!((c[HIPS].y - c[TOES_L].y - canonical::leg_length()).abs() < 1e-9);
     }
 }

@@ -20,10 +20,7 @@ pub const CONTACT_THRESHOLD: f32 = 0.5;
 
 /// Per frame, which of [`CONTACT_JOINTS`] the features mark as in contact.
 pub fn contacts(features: &Features) -> Vec<[bool; 4]> {
-    features
-        .rows()
-        .map(|row| std::array::from_fn(|k| row[CONTACTS.start + k] > CONTACT_THRESHOLD))
-        .collect()
+    features.rows().map(|row| std::array::from_fn(|k| row[CONTACTS.start + k] > CONTACT_THRESHOLD)).collect()
 }
 
 /// `motion` with its root shifted on the ground so that joints in contact (`contacts[t]`, one

@@ -39,8 +39,22 @@ struct Leg {
 }
 
 const LEGS: [Leg; 2] = [
-    Leg { pelvis: joint::HIPS, hip: joint::UPPER_LEG_L, knee: joint::LOWER_LEG_L, ankle: joint::FOOT_L, toes: joint::TOES_L, contact: 0 },
-    Leg { pelvis: joint::HIPS, hip: joint::UPPER_LEG_R, knee: joint::LOWER_LEG_R, ankle: joint::FOOT_R, toes: joint::TOES_R, contact: 2 },
+    Leg {
+        pelvis: joint::HIPS,
+        hip: joint::UPPER_LEG_L,
+        knee: joint::LOWER_LEG_L,
+        ankle: joint::FOOT_L,
+        toes: joint::TOES_L,
+        contact: 0,
+    },
+    Leg {
+        pelvis: joint::HIPS,
+        hip: joint::UPPER_LEG_R,
+        knee: joint::LOWER_LEG_R,
+        ankle: joint::FOOT_R,
+        toes: joint::TOES_R,
+        contact: 2,
+    },
 ];
 
 /// `motion` with each leg's ankle held on one spot through each of its contact runs
@@ -60,10 +74,8 @@ pub fn lock_legs(motion: &Motion, contacts: &[[bool; 4]]) -> Result<Motion, Moti
             continue;
         }
         let ankles: Vec<DVec3> = globals.iter().map(|(pos, _)| pos[leg.ankle]).collect();
-        let spots: Vec<DVec3> = runs
-            .iter()
-            .map(|&(a, b)| ankles[a..b].iter().fold(DVec3::ZERO, |s, p| s + *p) / (b - a) as f64)
-            .collect();
+        let spots: Vec<DVec3> =
+            runs.iter().map(|&(a, b)| ankles[a..b].iter().fold(DVec3::ZERO, |s, p| s + *p) / (b - a) as f64).collect();
         for (t, pose) in rotations.iter_mut().enumerate() {
             let Some((spot, weight)) = nearest_spot(t, &runs, &spots) else { continue };
             let now = ankles[t];
@@ -103,7 +115,13 @@ fn nearest_spot(t: usize, runs: &[(usize, usize)], spots: &[DVec3]) -> Option<(D
     runs.iter()
         .zip(spots)
         .map(|(&(a, b), &spot)| {
-            let distance = if t < a { a - t } else if t >= b { t + 1 - b } else { 0 };
+            let distance = if t < a {
+                a - t
+            } else if t >= b {
+                t + 1 - b
+            } else {
+                0
+            };
             (distance, spot)
         })
         .filter(|&(d, _)| d <= BLEND_FRAMES)

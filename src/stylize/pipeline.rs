@@ -16,15 +16,15 @@ use rand_chacha::ChaCha8Rng;
 use rand_chacha::rand_core::{RngCore, SeedableRng};
 
 use super::StylizeError;
-use super::{feet, legs};
 use super::source::{MAX_MIX_DEPTH, MAX_SAMPLES, MAX_TEMPERATURE, Request, StyleSource};
 use super::weights::{Setting, Weights};
+use super::{feet, legs};
 use crate::Motion;
 use crate::dataset::Style;
-use crate::features::{DIM, FeatureError, Features, View, extract_placed, reconstruct};
+use crate::features::{DIM, FeatureError, Features, ROOT_ANG_VEL, View, extract_placed, reconstruct};
 use crate::model::config::FRAME_MULTIPLE;
-use crate::model::layers::one_hot;
-use crate::model::{NoiseRng, StyleDistribution, Stylizer};
+use crate::model::layers::{channels, one_hot};
+use crate::model::{Model, NoiseRng, StyleDistribution};
 
 /// Longest content or reference motion accepted, frames at 30 fps (5 minutes).
 pub const MAX_FRAMES: usize = 9_000;
@@ -99,9 +99,9 @@ struct Codes {
 }
 
 /// Checks a request against the model before any network runs.
-fn validate(source: &StyleSource<'_>, stylizer: &Stylizer, depth: usize) -> Result<(), StylizeError> {
-    let supervised = stylizer.config.supervised;
-    let check_label = |s: &Style| label_index(*s, stylizer).map(|_| ());
+fn validate(source: &StyleSource<'_>, model: &Model, depth: usize) -> Result<(), StylizeError> {
+    let supervised = model.config.supervised;
+    let check_label = |s: &Style| label_index(*s, model).map(|_| ());
     match source {
         StyleSource::Motion { motion, label } => {
             match (supervised, label) {
@@ -129,14 +129,14 @@ fn validate(source: &StyleSource<'_>, stylizer: &Stylizer, depth: usize) -> Resu
             if !(t.is_finite() && (0.0..=1.0).contains(t)) {
                 return Err(StylizeError::MixWeight { t: *t });
             }
-            validate(a, stylizer, depth + 1)?;
-            validate(b, stylizer, depth + 1)
+            validate(a, model, depth + 1)?;
+            validate(b, model, depth + 1)
         }
     }
 }
 
-fn label_index(style: Style, stylizer: &Stylizer) -> Result<usize, StylizeError> {
-    let count = stylizer.config.num_styles;
+fn label_index(style: Style, model: &Model) -> Result<usize, StylizeError> {
+    let count = model.config.num_styles;
     if style.index() < count {
         Ok(style.index())
     } else {
@@ -166,7 +166,7 @@ impl Draws {
 
 struct Resolver<'w> {
     weights: &'w Weights,
-    stylizer: &'w Stylizer,
+    model: &'w Model,
     samples: usize,
     /// Scale of the prior draws ([`Request::temperature`]).
     temperature: f32,
@@ -175,20 +175,20 @@ struct Resolver<'w> {
 
 impl Resolver<'_> {
     fn one_hot_rows(&self, labels: &[usize]) -> Tensor<2> {
-        one_hot(labels, self.stylizer.config.num_styles, self.stylizer.device())
+        one_hot(labels, self.model.config.num_styles, self.model.device())
     }
 
     /// Codes for `source` (validated by [`validate`]).
     fn resolve(&mut self, source: &StyleSource<'_>) -> Result<Codes, StylizeError> {
-        let (n, d) = (self.samples, self.stylizer.config.style_dim);
-        let device = self.stylizer.device().clone();
-        let supervised = self.stylizer.config.supervised;
+        let (n, d) = (self.samples, self.model.config.style_dim);
+        let device = self.model.device().clone();
+        let supervised = self.model.config.supervised;
         match source {
             StyleSource::Motion { motion, label } => {
-                let label = label.map(|l| label_index(l, self.stylizer)).transpose()?;
+                let label = label.map(|l| label_index(l, self.model)).transpose()?;
                 let prepared = prepare(self.weights.norm(), motion, "reference", &device)?;
-                let latent = self.stylizer.encode(prepared.tensor)?;
-                let dist = self.stylizer.style_distribution(latent, label.map(|l| vec![l]).as_deref())?;
+                let latent = self.model.encode(prepared.tensor)?;
+                let dist = self.model.style_distribution(latent, label.map(|l| vec![l]).as_deref())?;
                 let code = if n == 1 {
                     dist.mean
                 } else {
@@ -200,14 +200,14 @@ impl Resolver<'_> {
                 Ok(Codes { code, label: label.map(|l| self.one_hot_rows(&vec![l; n])) })
             }
             StyleSource::Label(style) => {
-                let l = label_index(*style, self.stylizer)?;
+                let l = label_index(*style, self.model)?;
                 let code = self.draws.noise.normal_tensor(n, d, &device) * self.temperature;
                 Ok(Codes { code, label: Some(self.one_hot_rows(&vec![l; n])) })
             }
             StyleSource::Prior => {
                 let code = self.draws.noise.normal_tensor(n, d, &device) * self.temperature;
                 let label = supervised.then(|| {
-                    let count = self.stylizer.config.num_styles;
+                    let count = self.model.config.num_styles;
                     let labels: Vec<usize> = (0..n).map(|_| self.draws.label(count)).collect();
                     self.one_hot_rows(&labels)
                 });
@@ -240,26 +240,26 @@ pub fn stylize(weights: &Weights, content: &Motion, request: &Request<'_>) -> Re
     if !(1..=MAX_SAMPLES).contains(&request.samples) {
         return Err(StylizeError::Samples { got: request.samples, max: MAX_SAMPLES });
     }
-    let stylizer = weights.stylizer(request.setting)?;
+    let model = weights.model(request.setting)?;
     if content.frames() > MAX_FRAMES {
         return Err(StylizeError::TooLong { what: "content", frames: content.frames(), max: MAX_FRAMES });
     }
-    validate(&request.source, stylizer, 0)?;
+    validate(&request.source, model, 0)?;
 
-    let device = stylizer.device().clone();
+    let device = model.device().clone();
     let prepared = prepare(weights.norm(), content, "content", &device)?;
     let padded = prepared.tensor.dims()[2];
-    let content_code = stylizer.content(stylizer.encode(prepared.tensor.clone())?)?;
-    let angular = prepared.tensor.narrow(1, 0, 1);
+    let content_code = model.content(model.encode(prepared.tensor.clone())?)?;
+    let angular = channels(prepared.tensor.clone(), ROOT_ANG_VEL);
 
     let n = request.samples;
     if !(request.temperature.is_finite() && (0.0..=MAX_TEMPERATURE).contains(&request.temperature)) {
         return Err(StylizeError::Temperature { got: request.temperature, max: MAX_TEMPERATURE });
     }
     let mut resolver =
-        Resolver { weights, stylizer, samples: n, temperature: request.temperature, draws: Draws::new(request.seed) };
+        Resolver { weights, model, samples: n, temperature: request.temperature, draws: Draws::new(request.seed) };
     let codes = resolver.resolve(&request.source)?;
-    if codes.label.is_some() != stylizer.config.supervised {
+    if codes.label.is_some() != model.config.supervised {
         return Err(StylizeError::Model("style labels do not match the model's setting".into()));
     }
 
@@ -270,11 +270,8 @@ pub fn stylize(weights: &Weights, content: &Motion, request: &Request<'_>) -> Re
         let rows = per_batch.min(n - start);
         let code = codes.code.clone().narrow(0, start, rows);
         let label = codes.label.as_ref().map(|l| l.clone().narrow(0, start, rows));
-        let latent = stylizer.model.stylizer.generator.forward(content_code.clone().repeat_dim(0, rows), code, label);
-        let decoded = stylizer.decode(latent)?;
-        let angular = angular.clone().repeat_dim(0, rows);
-        let velocity = stylizer.root_velocity(decoded.clone(), angular.clone())?;
-        let features = Tensor::cat(vec![angular, velocity, decoded.narrow(1, 3, DIM - 3)], 1);
+        let latent = model.generate_with(content_code.clone().repeat_dim(0, rows), code, label)?;
+        let features = model.with_root(model.decode(latent)?, angular.clone().repeat_dim(0, rows))?;
         let values = read_back(features)?;
         for sample in values.chunks_exact(DIM * padded) {
             out.push(to_motion(weights, sample, padded, prepared.frames, &prepared.placement)?);
@@ -316,12 +313,12 @@ pub fn style_code_of(
     motion: &Motion,
     label: Option<Style>,
 ) -> Result<Vec<f32>, StylizeError> {
-    let stylizer = weights.stylizer(setting)?;
+    let model = weights.model(setting)?;
     let source = StyleSource::Motion { motion, label };
-    validate(&source, stylizer, 0)?;
-    let label = label.map(|l| label_index(l, stylizer)).transpose()?;
-    let prepared = prepare(weights.norm(), motion, "reference", stylizer.device())?;
-    let latent = stylizer.encode(prepared.tensor)?;
-    let dist = stylizer.style_distribution(latent, label.map(|l| vec![l]).as_deref())?;
+    validate(&source, model, 0)?;
+    let label = label.map(|l| label_index(l, model)).transpose()?;
+    let prepared = prepare(weights.norm(), motion, "reference", model.device())?;
+    let latent = model.encode(prepared.tensor)?;
+    let dist = model.style_distribution(latent, label.map(|l| vec![l]).as_deref())?;
     read_back(dist.mean)
 }

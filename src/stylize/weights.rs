@@ -7,8 +7,8 @@ use super::StylizeError;
 use super::manifest::{self, Manifest};
 use crate::dataset::Style;
 use crate::features::NormStats;
-use crate::model::weights::load_bundle;
-use crate::model::{ModelConfig, Stylizer};
+use crate::model::weights::{bundle_config, load_bundle};
+use crate::model::{Model, ModelError};
 
 /// Which of the two stylizers (paper §3.4): trained with style labels or without.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -51,13 +51,13 @@ impl core::fmt::Display for Setting {
 const MAX_WIDTH: usize = 8192;
 
 /// The trained models and what goes with them: the manifest, the normalisation statistics and
-/// one [`Stylizer`] per available setting.
+/// one [`Model`] per available setting.
 #[derive(Debug)]
 pub struct Weights {
     manifest: Manifest,
     norm: NormStats,
-    supervised: Option<Stylizer>,
-    unsupervised: Option<Stylizer>,
+    supervised: Option<Model>,
+    unsupervised: Option<Model>,
 }
 
 fn bad(message: impl Into<String>) -> StylizeError {
@@ -103,7 +103,7 @@ impl Weights {
         if supervised.is_none() && unsupervised.is_none() {
             return Err(bad("no model: neither a supervised nor an unsupervised bundle"));
         }
-        let load = |bytes: Option<&[u8]>, setting: Setting| -> Result<Option<Stylizer>, StylizeError> {
+        let load = |bytes: Option<&[u8]>, setting: Setting| -> Result<Option<Model>, StylizeError> {
             let Some(bytes) = bytes else { return Ok(None) };
             let context = |e: StylizeError| match e {
                 StylizeError::BadWeights(m) => bad(format!("{setting} bundle: {m}")),
@@ -113,7 +113,7 @@ impl Weights {
             // The bundle's f16 tensors are read on flex (which casts them to f32) and the f32
             // networks then moved to `device`: burn-ndarray has no f16 tensors and panics on them.
             let (config, model) = load_bundle(bytes, &Device::flex()).map_err(|e| context(e.into()))?;
-            Ok(Some(Stylizer::new(config, model.to_device(device))))
+            Ok(Some(Model::new(config, model.to_device(device))))
         };
         Ok(Weights {
             supervised: load(supervised, Setting::Supervised)?,
@@ -180,7 +180,7 @@ impl Weights {
 
     /// Whether the model of `setting` is loaded.
     pub fn has(&self, setting: Setting) -> bool {
-        self.stylizer(setting).is_ok()
+        self.model(setting).is_ok()
     }
 
     /// The settings loaded.
@@ -189,7 +189,7 @@ impl Weights {
     }
 
     /// The inference model of `setting`.
-    pub fn stylizer(&self, setting: Setting) -> Result<&Stylizer, StylizeError> {
+    pub fn model(&self, setting: Setting) -> Result<&Model, StylizeError> {
         match setting {
             Setting::Supervised => self.supervised.as_ref(),
             Setting::Unsupervised => self.unsupervised.as_ref(),
@@ -201,21 +201,10 @@ impl Weights {
 /// Checks a bundle's config before any network is built from it: the setting and the label count
 /// match, and no width is absurd (which would make the loader try to allocate it).
 fn check_bundle_header(bytes: &[u8], setting: Setting, labels: usize) -> Result<(), StylizeError> {
-    const MAGIC: &[u8; 8] = b"MSTYLZ01";
-    const MAGIC_LEN: usize = MAGIC.len();
-    if bytes.get(..MAGIC_LEN) != Some(MAGIC.as_slice()) {
-        return Err(bad("not a motion-stylizer weights bundle"));
-    }
-    let len_bytes: [u8; 4] = bytes
-        .get(MAGIC_LEN..MAGIC_LEN + 4)
-        .and_then(|b| b.try_into().ok())
-        .ok_or_else(|| bad("not a motion-stylizer weights bundle"))?;
-    let len = u32::from_le_bytes(len_bytes) as usize;
-    let json = bytes
-        .get(MAGIC_LEN + 4..)
-        .and_then(|rest| rest.get(..len))
-        .ok_or_else(|| bad("not a motion-stylizer weights bundle (truncated)"))?;
-    let config: ModelConfig = serde_json::from_slice(json).map_err(|e| bad(format!("config: {e}")))?;
+    let (config, _) = bundle_config(bytes).map_err(|e| match e {
+        ModelError::Weights(m) => bad(m),
+        other => bad(other.to_string()),
+    })?;
     if config.supervised != (setting == Setting::Supervised) {
         let other = if config.supervised { Setting::Supervised } else { Setting::Unsupervised };
         return Err(bad(format!("it holds the {other} model")));

@@ -15,27 +15,27 @@
 //! - `mpjpe_global_mm`: full-trajectory error, every joint in world space, with the decoder's own
 //!   root velocities;
 //! - `mpjpe_pipeline_mm`: full-trajectory error as the stylization pipeline would produce it
-//!   ([`crate::model::Stylizer::stylize`]): the input's root angular velocity and the regressor's
+//!   ([`crate::model::Model::stylize`]): the input's root angular velocity and the regressor's
 //!   ground velocity predicted from the decoded motion;
 //! - `root_end_cm`, `root_mean_cm`: the regressor alone, on the input motion: root ground path
 //!   integrated from its predicted velocity (and the true yaw) against the true path, at the
 //!   window's last frame and averaged over frames.
 //!
-//! Stylizer metrics: each loss term of [`crate::model::losses::stylizer_loss`] on the held-out
+//! Stylizer metrics: each loss term of [`super::losses::stylizer_loss`] on the held-out
 //! pairs (latents are the frozen encoder's means; the style samples use a fixed seed, so the
 //! numbers are comparable between evaluations).
 
 use burn::prelude::*;
 use glam::{DQuat, DVec3};
 
+use super::losses::{StylizerInputs, StylizerWeights, stylizer_loss};
 use super::sampler::{Window, batch_tensor};
 use crate::dataset::corpus::Clip;
 use crate::features::{self, DIM, Features, NormStats, ROOT_ANG_VEL, ROOT_LIN_VEL};
 use crate::model::autoencoder::{MotionAutoencoder, ae_input};
-use crate::model::layers::one_hot;
-use crate::model::losses::{StylizerInputs, StylizerWeights, stylizer_loss};
+use crate::model::layers::{channels, one_hot};
 use crate::model::regressor::{GlobalRegressor, regressor_input, regressor_input_from};
-use crate::model::{NoiseRng, StylizerNet};
+use crate::model::{NoiseRng, Stylizer};
 use crate::skeleton::canonical::joint;
 
 /// Names of the autoencoder metrics, in `eval.csv` order.
@@ -198,7 +198,7 @@ pub fn evaluate_ae(
         let x = batch_tensor(&clips, &whole(clips.len()), t, device);
         let y = autoencoder.decoder.forward(autoencoder.encoder.forward(ae_input(x.clone())).mean);
         let v_true = regressor.forward(regressor_input(x.clone()));
-        let v_pipe = regressor.forward(regressor_input_from(x.narrow(1, 0, 1), y.clone()));
+        let v_pipe = regressor.forward(regressor_input_from(channels(x, ROOT_ANG_VEL), y.clone()));
         let (y, v_true, v_pipe) = (to_vec(y), to_vec(v_true), to_vec(v_pipe));
         for (b, &i) in chunk.iter().enumerate() {
             let y_rows = rows_of(&y[b * DIM * t..(b + 1) * DIM * t], DIM, t);
@@ -236,7 +236,7 @@ pub fn evaluate_ae(
 /// The stylizer metrics ([`STYLIZER_METRICS`] order): the loss terms on the held-out pairs,
 /// with inference copies of the networks. `num_styles` is `Some` for a supervised model.
 pub fn evaluate_stylizer(
-    net: &StylizerNet,
+    net: &Stylizer,
     autoencoder: &MotionAutoencoder,
     weights: &StylizerWeights,
     num_styles: Option<usize>,

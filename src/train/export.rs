@@ -18,12 +18,13 @@ use burn::prelude::*;
 use std::collections::BTreeMap;
 use std::path::Path;
 
+use super::ae::AeNets;
+use super::rundir::load_module;
 use super::rundir::{self, Checkpoint, CsvTable, RunConfig, RunLog};
-use super::{AeNets, load_module};
 use crate::dataset::{STYLES, Split};
 use crate::features::NormStats;
 use crate::model::weights::save_bundle;
-use crate::model::{MotionModel, StylizerNet};
+use crate::model::{MotionModel, Stylizer};
 use crate::stylize::manifest::{FORMAT, Manifest, ModelEntry, StageRecord};
 
 /// Licence of the exported weights.
@@ -62,11 +63,11 @@ pub fn export(sup: &Path, unsup: &Path, ae: &Path, out: &Path) -> anyhow::Result
             dir.display()
         );
         if let Some(w) = window
-            && w != config.window
+            && w != config.settings.window
         {
-            bail!("the stylizer runs use different windows ({w} and {})", config.window);
+            bail!("the stylizer runs use different windows ({w} and {})", config.settings.window);
         }
-        window = Some(config.window);
+        window = Some(config.settings.window);
         split.get_or_insert_with(|| config.split.clone());
         let ckpt = Checkpoint::read(&dir.join(rundir::CHECKPOINT))?;
         let ae_ckpt = Checkpoint::read(&dir.join(rundir::AE_COPY))?;
@@ -88,7 +89,7 @@ pub fn export(sup: &Path, unsup: &Path, ae: &Path, out: &Path) -> anyhow::Result
 
         let device = Device::flex();
         let nets = load_module(AeNets::new(&config.model, &device), &ae_ckpt.weights)?;
-        let stylizer = load_module(StylizerNet::new(&config.model, &device), &ckpt.weights)?;
+        let stylizer = load_module(Stylizer::new(&config.model, &device), &ckpt.weights)?;
         let model = MotionModel { autoencoder: nets.autoencoder, stylizer, regressor: nets.regressor };
         let file = format!("{setting}.bin");
         let bytes = save_bundle(&config.model, model)?;
@@ -97,7 +98,7 @@ pub fn export(sup: &Path, unsup: &Path, ae: &Path, out: &Path) -> anyhow::Result
         models.push(ModelEntry {
             setting: setting.into(),
             file,
-            width: config.width,
+            width: config.settings.width,
             stages: vec![stage_record(ae, &ae_config, ae_ckpt.meta.step)?, stage_record(dir, &config, ckpt.meta.step)?],
         });
     }
@@ -166,9 +167,9 @@ pub fn stage_record(dir: &Path, config: &RunConfig, step: u64) -> anyhow::Result
         stage: config.stage.clone(),
         command: log.command(),
         steps: step,
-        seed: config.seed,
-        batch: config.batch,
-        window: config.window,
+        seed: config.settings.seed,
+        batch: config.settings.batch,
+        window: config.settings.window,
         seconds,
         seconds_per_step: per_step,
         machine: log.machine.clone(),

@@ -14,13 +14,22 @@
 //! `norm.json`, `ae.bin`) are written to a temporary name in the same folder, synced, then renamed
 //! over the old one.
 
-use anyhow::{Context, bail};
+use anyhow::{Context, bail, ensure};
+use burn::module::Module;
+use burn::store::ModuleRecord;
+use burn::tensor::Bytes;
 use serde::{Deserialize, Serialize};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+use super::Stage;
+pub use super::logs::{CsvLog, CsvTable, RunLog, Segment, machine_description, unix_now};
 use super::sampler::RngState;
-use crate::model::{ModelConfig, TrainConfig};
+use super::settings::{Settings, TrainConfig, TrainOptions};
+use crate::dataset::STYLES;
+use crate::features::NormStats;
+use crate::model::ModelConfig;
+use crate::model::weights::{FrameError, frame, unframe};
 
 pub const CONFIG: &str = "config.json";
 pub const RUN_LOG: &str = "run.json";
@@ -37,14 +46,13 @@ const CHECKPOINT_MAGIC: &[u8; 8] = b"MSTCKPT1";
 /// Settings of a run, written once when it starts; a resumed run takes them from here.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RunConfig {
-    /// `"ae"` or `"stylizer"`.
+    /// `"ae"`, `"stylizer"` or `"classifier"`.
     pub stage: String,
     /// Stylizer: supervised (style labels) or not; `None` for the autoencoder.
     pub supervised: Option<bool>,
-    pub seed: u64,
-    pub width: f64,
-    pub batch: usize,
-    pub window: usize,
+    /// Seed, width, batch and window.
+    #[serde(flatten)]
+    pub settings: Settings,
     pub model: ModelConfig,
     pub train: TrainConfig,
     /// Held-out split file, as given.
@@ -60,52 +68,6 @@ pub struct RunConfig {
     pub train_clips_skipped: usize,
     pub eval_windows: usize,
     pub heldout_skipped: usize,
-}
-
-/// One invocation of `train` on this run.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Segment {
-    /// `std::env::args` joined by spaces.
-    pub command: String,
-    /// Unix time (s) the invocation started.
-    pub started_unix: u64,
-    /// Step the segment started from (0, or the checkpoint it resumed) and the last step it
-    /// checkpointed.
-    pub from_step: u64,
-    pub to_step: u64,
-    /// Seconds: data loading; training steps (sampling + forward + backward + update); held-out
-    /// evaluations; the whole segment up to its last checkpoint.
-    pub load_s: f64,
-    pub step_s: f64,
-    pub eval_s: f64,
-    pub wall_s: f64,
-}
-
-/// Provenance and timing of a run, updated at every checkpoint.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct RunLog {
-    /// Processor model and core count of the machine (of the latest segment).
-    pub machine: String,
-    /// Rayon threads of the latest segment (the flex kernels' pool).
-    pub threads: usize,
-    pub segments: Vec<Segment>,
-}
-
-impl RunLog {
-    /// The command lines, in order; one string when the run was not resumed.
-    pub fn command(&self) -> String {
-        self.segments.iter().map(|s| s.command.as_str()).collect::<Vec<_>>().join(" && ")
-    }
-
-    /// Total steps trained, total wall seconds of the training segments, seconds per step
-    /// (training steps only, without evaluation, checkpoints and data loading).
-    pub fn totals(&self) -> (u64, f64, f64) {
-        let steps = self.segments.last().map_or(0, |s| s.to_step);
-        let wall: f64 = self.segments.iter().map(|s| s.wall_s).sum();
-        let step_s: f64 = self.segments.iter().map(|s| s.step_s).sum();
-        let done: u64 = self.segments.iter().map(|s| s.to_step.saturating_sub(s.from_step)).sum();
-        (steps, wall, if done > 0 { step_s / done as f64 } else { 0.0 })
-    }
 }
 
 /// What a checkpoint holds besides the network weights.
@@ -131,24 +93,18 @@ pub struct Checkpoint {
 }
 
 impl Checkpoint {
+    /// The checkpoint as bytes: [`frame`] with the metadata as header.
     pub fn to_bytes(&self) -> anyhow::Result<Vec<u8>> {
-        let json = serde_json::to_vec(&self.meta)?;
-        let mut out = Vec::with_capacity(12 + json.len() + self.weights.len());
-        out.extend_from_slice(CHECKPOINT_MAGIC);
-        out.extend_from_slice(&(json.len() as u32).to_le_bytes());
-        out.extend_from_slice(&json);
-        out.extend_from_slice(&self.weights);
-        Ok(out)
+        Ok(frame(CHECKPOINT_MAGIC, &serde_json::to_vec(&self.meta)?, &self.weights))
     }
 
     pub fn from_bytes(bytes: &[u8]) -> anyhow::Result<Checkpoint> {
-        if bytes.len() < 12 || &bytes[..8] != CHECKPOINT_MAGIC {
-            bail!("not a motion-stylizer training checkpoint");
-        }
-        let len = u32::from_le_bytes(bytes[8..12].try_into().expect("4 bytes")) as usize;
-        let json = bytes.get(12..12 + len).context("truncated checkpoint")?;
+        let (json, weights) = unframe(CHECKPOINT_MAGIC, bytes).map_err(|e| match e {
+            FrameError::NotOurs => anyhow::anyhow!("not a motion-stylizer training checkpoint"),
+            FrameError::Truncated => anyhow::anyhow!("truncated checkpoint"),
+        })?;
         let meta = serde_json::from_slice(json).context("checkpoint metadata")?;
-        Ok(Checkpoint { meta, weights: bytes[12 + len..].to_vec() })
+        Ok(Checkpoint { meta, weights: weights.to_vec() })
     }
 
     pub fn read(path: &Path) -> anyhow::Result<Checkpoint> {
@@ -189,121 +145,197 @@ pub fn read_json<T: for<'de> Deserialize<'de>>(path: &Path) -> anyhow::Result<T>
     serde_json::from_str(&text).with_context(|| format!("cannot parse {}", path.display()))
 }
 
-/// A CSV log with a fixed header, appended to across resumes.
-pub struct CsvLog {
-    path: PathBuf,
-    columns: Vec<String>,
-    out: std::io::BufWriter<std::fs::File>,
+/// Burnpack bytes (f32) of a module.
+pub fn module_bytes<M: Module>(module: M) -> anyhow::Result<Vec<u8>> {
+    Ok(module.into_record().into_bytes().map_err(|e| anyhow::anyhow!("cannot serialise weights: {e}"))?.to_vec())
 }
 
-impl CsvLog {
-    /// Opens `path` for appending rows of `columns`. A new file gets the header. An existing one
-    /// must have the same header; its rows with a step (first column) above `keep_to_step` are
-    /// dropped (written after the checkpoint being resumed).
-    pub fn open(path: &Path, columns: &[&str], keep_to_step: u64) -> anyhow::Result<CsvLog> {
-        let header = columns.join(",");
-        if path.exists() {
-            let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-            let mut lines = text.lines();
-            if lines.next() != Some(header.as_str()) {
-                bail!("{} has another header than expected ({header})", path.display());
-            }
-            let mut kept = header.clone();
-            kept.push('\n');
-            for line in lines {
-                let step: u64 = line.split(',').next().and_then(|s| s.parse().ok()).unwrap_or(u64::MAX);
-                if step <= keep_to_step {
-                    kept.push_str(line);
-                    kept.push('\n');
-                }
-            }
-            if kept.len() != text.len() {
-                write_atomic(path, kept.as_bytes())?;
-            }
-        } else {
-            write_atomic(path, format!("{header}\n").as_bytes())?;
+/// Loads [`module_bytes`] into `template` (same architecture).
+pub fn load_module<M: Module>(template: M, bytes: &[u8]) -> anyhow::Result<M> {
+    let record = ModuleRecord::from_bytes(Bytes::from_bytes_vec(bytes.to_vec()))
+        .map_err(|e| anyhow::anyhow!("cannot read weights: {e}"))?;
+    template.try_load_record(record).map_err(|e| anyhow::anyhow!("weights do not fit the network: {e}"))
+}
+
+/// The run's configuration and its checkpoint.
+pub fn read_run(dir: &Path) -> anyhow::Result<(RunConfig, Checkpoint)> {
+    let config: RunConfig =
+        read_json(&dir.join(CONFIG)).with_context(|| format!("{} is not a training run folder", dir.display()))?;
+    let ckpt = Checkpoint::read(&dir.join(CHECKPOINT))?;
+    Ok((config, ckpt))
+}
+
+fn is_nonempty_dir(dir: &Path) -> bool {
+    std::fs::read_dir(dir).map(|mut d| d.next().is_some()).unwrap_or(false)
+}
+
+/// Where the autoencoder of a stylizer run comes from: a run folder or its checkpoint file.
+fn ae_source(path: &Path) -> anyhow::Result<(RunConfig, Checkpoint, NormStats)> {
+    let dir = if path.is_file() { path.parent().unwrap_or(Path::new(".")) } else { path };
+    let ckpt_path = if path.is_file() { path.to_path_buf() } else { dir.join(CHECKPOINT) };
+    let config: RunConfig =
+        read_json(&dir.join(CONFIG)).with_context(|| format!("--ae {}: not an `ae` run folder", path.display()))?;
+    ensure!(config.stage == "ae", "--ae {}: a {} run, not an `ae` run", path.display(), config.stage);
+    let bytes = std::fs::read(&ckpt_path)
+        .with_context(|| format!("--ae {}: no checkpoint yet ({})", path.display(), ckpt_path.display()))?;
+    let norm = read_json(&dir.join(NORM))?;
+    Ok((config, Checkpoint::from_bytes(&bytes)?, norm))
+}
+
+/// A run folder opened for a segment: the run's settings and what it starts from.
+pub struct OpenRun {
+    pub config: RunConfig,
+    /// The checkpoint a resumed run continues from (none before its first checkpoint).
+    pub resume_from: Option<Checkpoint>,
+    /// Stylizer runs: the frozen autoencoder + regressor checkpoint it trains on.
+    pub ae: Option<Checkpoint>,
+    /// The statistics the run trains on; `None` for a new `ae` or `classifier` run (computed from
+    /// the training clips).
+    pub norm: Option<NormStats>,
+}
+
+impl OpenRun {
+    /// The step this segment starts from.
+    pub fn start_step(&self) -> u64 {
+        self.resume_from.as_ref().map_or(0, |c| c.meta.step)
+    }
+}
+
+/// Opens `opts.out` for `stage`: a resumed run's own settings (a differing setting is an error),
+/// or a new run's from the options (a non-empty folder is refused).
+pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
+    let out = &opts.out;
+    if opts.resume {
+        let config: RunConfig = read_json(&out.join(CONFIG))
+            .with_context(|| format!("--resume: {} holds no run to resume", out.display()))?;
+        ensure!(
+            config.stage == stage.name(),
+            "--resume: {} is a {} run, not {}",
+            out.display(),
+            config.stage,
+            stage.name()
+        );
+        if let Stage::Stylizer { supervised, .. } = stage
+            && *supervised != config.supervised.unwrap_or(true)
+        {
+            bail!(
+                "supervised {supervised} differs from the run's {}: a resumed run keeps its settings",
+                config.supervised.unwrap_or(true)
+            );
         }
-        let file = std::fs::OpenOptions::new()
-            .append(true)
-            .open(path)
-            .with_context(|| format!("cannot open {}", path.display()))?;
-        Ok(CsvLog {
-            path: path.to_path_buf(),
-            columns: columns.iter().map(|s| s.to_string()).collect(),
-            out: std::io::BufWriter::new(file),
-        })
+        opts.settings.check_same(&config.settings)?;
+        let ckpt_path = out.join(CHECKPOINT);
+        let resume_from = if ckpt_path.exists() { Some(Checkpoint::read(&ckpt_path)?) } else { None };
+        let ae = if config.stage == "stylizer" { Some(Checkpoint::read(&out.join(AE_COPY))?) } else { None };
+        let norm: NormStats = read_json(&out.join(NORM))?;
+        return Ok(OpenRun { config, resume_from, ae, norm: Some(norm) });
     }
-
-    /// Appends one row (step first; values in [`CsvLog::open`]'s column order after the step).
-    pub fn row(&mut self, step: u64, values: &[f64]) -> anyhow::Result<()> {
-        debug_assert_eq!(values.len() + 1, self.columns.len());
-        let mut line = step.to_string();
-        for v in values {
-            line.push(',');
-            line.push_str(&format_value(*v));
+    ensure!(
+        !is_nonempty_dir(out),
+        "{} exists and is not empty: pass --resume to continue that run, or choose another --out",
+        out.display()
+    );
+    let settings = opts.settings.over(Settings::default());
+    let base = RunConfig {
+        stage: stage.name().into(),
+        supervised: None,
+        model: ModelConfig::scaled(settings.width).with_num_styles(STYLES.len()),
+        settings,
+        train: TrainConfig::default(),
+        split: opts.split.display().to_string(),
+        ae_run: None,
+        ae_step: None,
+        sampler: String::new(),
+        train_clips: 0,
+        train_clips_skipped: 0,
+        eval_windows: 0,
+        heldout_skipped: 0,
+    };
+    Ok(match stage {
+        Stage::Ae => OpenRun {
+            config: RunConfig {
+                sampler: "uniform over all windows of the training clips (clips weighted by window starts)".into(),
+                ..base
+            },
+            resume_from: None,
+            ae: None,
+            norm: None,
+        },
+        Stage::Classifier => OpenRun {
+            config: RunConfig {
+                sampler: "style-balanced: a style uniformly, a clip of it uniformly, a window of that clip".into(),
+                ..base
+            },
+            resume_from: None,
+            ae: None,
+            norm: None,
+        },
+        Stage::Stylizer { ae, supervised } => {
+            let ae = ae.as_ref().context("the stylizer stage needs --ae DIR (an `ae` run)")?;
+            let (ae_config, ae_ckpt, norm) = ae_source(ae)?;
+            if let Some(w) = opts.settings.width
+                && w != ae_config.settings.width
+            {
+                bail!("--width {w} differs from the autoencoder run's {}", ae_config.settings.width);
+            }
+            if opts.split.display().to_string() != ae_config.split {
+                eprintln!(
+                    "warning: split {} differs from the autoencoder run's {}",
+                    opts.split.display(),
+                    ae_config.split
+                );
+            }
+            let config = RunConfig {
+                supervised: Some(*supervised),
+                settings: Settings { width: ae_config.settings.width, ..base.settings.clone() },
+                model: ae_config.model.clone().with_supervised(*supervised).with_num_styles(STYLES.len()),
+                ae_run: Some(ae.display().to_string()),
+                ae_step: Some(ae_ckpt.meta.step),
+                sampler: "style-balanced: a style uniformly, a clip of it uniformly, two windows of that clip at \
+                          independent uniform offsets"
+                    .into(),
+                ..base
+            };
+            OpenRun { config, resume_from: None, ae: Some(ae_ckpt), norm: Some(norm) }
         }
-        line.push('\n');
-        self.out.write_all(line.as_bytes()).with_context(|| format!("cannot write {}", self.path.display()))
-    }
-
-    pub fn flush(&mut self) -> anyhow::Result<()> {
-        self.out.flush().with_context(|| format!("cannot write {}", self.path.display()))
-    }
+    })
 }
 
-/// Shortest text of the value as an f32 (losses are f32; seconds to the millisecond).
-fn format_value(v: f64) -> String {
-    if v.is_finite() {
-        let mut b = ryu::Buffer::new();
-        let s = b.format(v as f32);
-        s.strip_suffix(".0").unwrap_or(s).to_string()
-    } else {
-        "NaN".to_string()
+/// Writes the run folder's fixed files (a new run: `norm.json` and the autoencoder copy; always
+/// `config.json`) and `run.json` with a new segment for this invocation; returns the run log.
+pub fn begin_segment(opts: &TrainOptions, run: &OpenRun, norm: &NormStats, load_s: f64) -> anyhow::Result<RunLog> {
+    let out = &opts.out;
+    let start_step = run.start_step();
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    if !opts.resume {
+        write_json(&out.join(NORM), norm)?;
+        if let Some(ae) = &run.ae {
+            write_atomic(&out.join(AE_COPY), &ae.to_bytes()?)?;
+        }
     }
-}
-
-/// A CSV log read back: header and numeric rows (unparsable cells become NaN).
-#[derive(Clone, Debug, PartialEq)]
-pub struct CsvTable {
-    pub columns: Vec<String>,
-    pub rows: Vec<Vec<f64>>,
-}
-
-impl CsvTable {
-    pub fn read(path: &Path) -> anyhow::Result<CsvTable> {
-        let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-        let mut lines = text.lines();
-        let columns = lines.next().context("empty CSV")?.split(',').map(str::to_string).collect();
-        let rows = lines
-            .filter(|l| !l.trim().is_empty())
-            .map(|l| l.split(',').map(|c| c.trim().parse().unwrap_or(f64::NAN)).collect())
-            .collect();
-        Ok(CsvTable { columns, rows })
+    write_json(&out.join(CONFIG), &run.config)?;
+    let mut log: RunLog =
+        if opts.resume { read_json(&out.join(RUN_LOG)).unwrap_or_default() } else { RunLog::default() };
+    // Segments past the checkpoint being resumed did not happen as far as this run is concerned.
+    log.segments.retain(|s| s.from_step < start_step);
+    for s in &mut log.segments {
+        s.to_step = s.to_step.min(start_step);
     }
-
-    /// Rows whose step (first column) is at most `step`.
-    pub fn up_to(&self, step: u64) -> Vec<&Vec<f64>> {
-        self.rows.iter().filter(|r| r.first().is_some_and(|s| *s <= step as f64)).collect()
-    }
-}
-
-/// The processor's model name and the number of logical cores, e.g.
-/// `"AMD EPYC 7B13, 2 cores (Linux x86_64)"`.
-pub fn machine_description() -> String {
-    let model = std::fs::read_to_string("/proc/cpuinfo")
+    log.machine = machine_description();
+    log.threads = std::env::var("RAYON_NUM_THREADS")
         .ok()
-        .and_then(|t| {
-            t.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split(':').nth(1))
-                .map(|s| s.trim().to_string())
-        })
-        .unwrap_or_else(|| "unknown CPU".into());
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    format!("{model}, {cores} cores ({} {})", std::env::consts::OS, std::env::consts::ARCH)
-}
-
-/// Seconds since the Unix epoch.
-pub fn unix_now() -> u64 {
-    std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    log.segments.push(Segment {
+        command: opts.command.clone(),
+        started_unix: unix_now(),
+        from_step: start_step,
+        to_step: start_step,
+        load_s,
+        step_s: 0.0,
+        eval_s: 0.0,
+        wall_s: 0.0,
+    });
+    write_json(&out.join(RUN_LOG), &log)?;
+    Ok(log)
 }

@@ -2,13 +2,13 @@
 //! the reference's KL terms are `sum / numel` too), so weights compare across widths and lengths.
 
 use burn::prelude::*;
+use burn::tensor::activation::log_softmax;
 use serde::{Deserialize, Serialize};
 
-use super::autoencoder::{MotionAutoencoder, ae_input};
-use super::config::TrainConfig;
-use super::rng::NoiseRng;
-use super::style::StyleDistribution;
-use super::stylizer::StylizerNet;
+use super::settings::TrainConfig;
+use crate::model::autoencoder::{MotionAutoencoder, MotionDecoder, ae_input};
+use crate::model::layers::one_hot;
+use crate::model::{NoiseRng, StyleDistribution, Stylizer};
 
 /// Smooth-L1 (Huber with β = 1, PyTorch's `SmoothL1Loss`), mean over elements:
 /// `0.5 d²` where `|d| < 1`, `|d| − 0.5` elsewhere. Written as `0.5 q² + (|d| − q)` with
@@ -68,13 +68,12 @@ pub fn latent_smoothness(z: Tensor<3>) -> Tensor<1> {
     (next - prev).abs().mean()
 }
 
-/// Cross-entropy of `logits` `[B, C]` against class indices, mean over the batch (for training
-/// the evaluation classifier).
+/// Cross-entropy of `logits` `[B, C]` against class indices, mean over the batch (the
+/// evaluation classifier's training loss).
 pub fn cross_entropy(logits: Tensor<2>, labels: &[usize]) -> Tensor<1> {
-    let [b, c] = logits.dims();
-    let target = super::layers::one_hot(labels, c, &logits.device());
-    let logp = burn::tensor::activation::log_softmax(logits, 1);
-    (logp * target).sum().neg() / b as f32
+    let [_, c] = logits.dims();
+    let target = one_hot(labels, c, &logits.device());
+    -(log_softmax(logits, 1) * target).sum_dim(1).mean()
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -212,8 +211,8 @@ pub fn partner_permutation(batch: usize) -> Vec<usize> {
 ///   clip's 260-D features.
 /// - `L = λ_rec L_rec + λ_cyc L_cyc + λ_kl L_kl + λ_hsa L_hsa` (see [`StylizerLosses`]).
 pub fn stylizer_loss(
-    net: &StylizerNet,
-    decoder: &super::autoencoder::MotionDecoder,
+    net: &Stylizer,
+    decoder: &MotionDecoder,
     inputs: &StylizerInputs,
     weights: &StylizerWeights,
     noise: &mut NoiseRng,

@@ -1,0 +1,165 @@
+//! Stage 1: the motion autoencoder and the global motion regressor ([`AeTrainer`]), trained side
+//! by side on the same batches of windows drawn uniformly over every training window.
+
+use burn::module::Module;
+use burn::optim::{GradientsParams, ModuleOptimizer};
+use burn::prelude::*;
+
+use super::data::TrainData;
+use super::eval;
+use super::losses::{autoencoder_loss, l1};
+use super::optim::{adam, clip_grad_norm, optimizers_from_bytes, optimizers_to_bytes, read_scalars};
+use super::rundir::{load_module, module_bytes};
+use super::sampler::{SamplerRng, batch_tensor};
+use super::settings::TrainConfig;
+use super::trainer::{Trainer, step_report};
+use crate::model::init::seeded_xavier;
+use crate::model::regressor::{regressor_input, regressor_target};
+use crate::model::{GlobalRegressor, ModelConfig, ModelError, MotionAutoencoder, NoiseRng, check_features};
+
+step_report! {
+    /// Losses of one autoencoder + regressor step (before the update).
+    pub struct AeStepReport {
+        /// Autoencoder total loss.
+        pub ae_loss,
+        pub reconstruction,
+        pub sparsity,
+        pub smoothness,
+        pub kl,
+        /// Regressor mean absolute error.
+        pub regressor_loss,
+        /// Gradient norms before clipping.
+        pub ae_grad_norm,
+        pub regressor_grad_norm,
+    }
+}
+
+/// Autoencoder + regressor: what an `ae` checkpoint holds.
+#[derive(Module, Debug)]
+pub struct AeNets {
+    pub autoencoder: MotionAutoencoder,
+    pub regressor: GlobalRegressor,
+}
+
+impl AeNets {
+    /// Lazily initialised networks (a template to load weights into).
+    pub fn new(cfg: &ModelConfig, device: &Device) -> Self {
+        Self { autoencoder: MotionAutoencoder::new(cfg, device), regressor: GlobalRegressor::new(cfg, device) }
+    }
+}
+
+/// Stage 1: the motion autoencoder and the global motion regressor, trained side by side on the
+/// same batches (their parameters and losses are disjoint, so one backward pass serves both).
+pub struct AeTrainer {
+    pub config: ModelConfig,
+    pub train: TrainConfig,
+    /// On the autodiff device.
+    pub autoencoder: MotionAutoencoder,
+    pub regressor: GlobalRegressor,
+    optim_ae: ModuleOptimizer,
+    optim_regressor: ModuleOptimizer,
+    noise: NoiseRng,
+    device: Device,
+}
+
+impl AeTrainer {
+    /// Fresh networks on `device.autodiff()`, weights from `seed` ([`seeded_xavier`]); `seed`
+    /// also seeds the VAE noise and the device's generator (dropout masks).
+    pub fn new(config: ModelConfig, train: TrainConfig, device: &Device, seed: u64) -> Self {
+        let device = device.clone().autodiff();
+        device.seed(seed);
+        let autoencoder = seeded_xavier(MotionAutoencoder::new(&config, &device), seed);
+        let regressor = seeded_xavier(GlobalRegressor::new(&config, &device), seed.wrapping_add(1));
+        Self {
+            config,
+            train,
+            autoencoder,
+            regressor,
+            optim_ae: adam(),
+            optim_regressor: adam(),
+            noise: NoiseRng::new(seed ^ 0x5eed_ae00),
+            device,
+        }
+    }
+
+    /// The training device (autodiff).
+    pub fn device(&self) -> &Device {
+        &self.device
+    }
+
+    /// One Adam step on features `[B, 260, T]` (normalised; T a multiple of 8).
+    pub fn step(&mut self, features: Tensor<3>) -> Result<AeStepReport, ModelError> {
+        check_features("pose features", &features)?;
+        let x = features.to_device(&self.device).autodiff();
+        let ae = autoencoder_loss(&self.autoencoder, x.clone(), &self.train, &mut self.noise);
+        let regressor_loss = l1(self.regressor.forward(regressor_input(x.clone())), regressor_target(x));
+
+        let mut grads = (ae.total.clone() + regressor_loss.clone()).backward();
+        let mut g_ae = GradientsParams::from_module(&mut grads, &self.autoencoder);
+        let mut g_reg = GradientsParams::from_module(&mut grads, &self.regressor);
+        let ae_grad_norm = clip_grad_norm(&self.autoencoder, &mut g_ae, self.train.grad_clip_norm);
+        let regressor_grad_norm = clip_grad_norm(&self.regressor, &mut g_reg, self.train.grad_clip_norm);
+
+        let [ae_loss, reconstruction, sparsity, smoothness, kl, regressor_loss] =
+            read_scalars([ae.total, ae.reconstruction, ae.sparsity, ae.smoothness, ae.kl, regressor_loss]);
+        self.autoencoder = self.optim_ae.step(self.train.lr, self.autoencoder.clone(), g_ae);
+        self.regressor = self.optim_regressor.step(self.train.regressor_lr, self.regressor.clone(), g_reg);
+        Ok(AeStepReport {
+            ae_loss,
+            reconstruction,
+            sparsity,
+            smoothness,
+            kl,
+            regressor_loss,
+            ae_grad_norm,
+            regressor_grad_norm,
+        })
+    }
+}
+
+impl Trainer for AeTrainer {
+    type Report = AeStepReport;
+    const SHOWN: &'static [(&'static str, &'static str)] =
+        &[("loss", "ae_loss"), ("rec", "reconstruction"), ("reg", "regressor_loss")];
+    const METRICS: &'static [&'static str] = &eval::AE_METRICS;
+
+    fn train_step(&mut self, data: &TrainData, rng: &mut SamplerRng) -> anyhow::Result<AeStepReport> {
+        let windows: Vec<_> = (0..data.batch).map(|_| data.sampler.window(rng)).collect();
+        let x = batch_tensor(&data.clips, &windows, data.window, &data.device);
+        Ok(self.step(x)?)
+    }
+
+    fn evaluate(&self, data: &TrainData) -> Vec<f64> {
+        let ae = self.autoencoder.clone().valid();
+        let regressor = self.regressor.clone().valid();
+        eval::evaluate_ae(&ae, &regressor, &data.heldout, &data.norm, data.batch, &data.device)
+    }
+
+    fn learning_rates(&self) -> Vec<(&'static str, f64)> {
+        vec![("lr", self.train.lr), ("regressor_lr", self.train.regressor_lr)]
+    }
+
+    fn weights(&self) -> anyhow::Result<Vec<u8>> {
+        module_bytes(AeNets {
+            autoencoder: self.autoencoder.clone().valid(),
+            regressor: self.regressor.clone().valid(),
+        })
+    }
+
+    fn load_weights(&mut self, bytes: &[u8]) -> anyhow::Result<()> {
+        let nets = load_module(AeNets::new(&self.config, &self.device), bytes)?;
+        self.autoencoder = nets.autoencoder;
+        self.regressor = nets.regressor;
+        Ok(())
+    }
+
+    /// Both optimizers' Adam states.
+    fn optimizer_state(&self) -> Result<Vec<u8>, ModelError> {
+        optimizers_to_bytes(&[&self.optim_ae, &self.optim_regressor])
+    }
+
+    fn load_optimizer_state(&mut self, bytes: &[u8]) -> Result<(), ModelError> {
+        [self.optim_ae, self.optim_regressor] = optimizers_from_bytes(bytes)?;
+        Ok(())
+    }
+}

@@ -1,0 +1,123 @@
+//! A run's data: the takes loaded and split, the normalisation statistics, the normalised training
+//! clips with their window sampler, and the held-out sets.
+
+use anyhow::{Context, ensure};
+use burn::prelude::*;
+use std::time::Instant;
+
+use super::eval::HeldoutSet;
+use super::rundir::RunConfig;
+use super::sampler::WindowSampler;
+use super::settings::TrainOptions;
+use crate::dataset::corpus::{self, Clip};
+use crate::dataset::{STYLES, Split};
+use crate::features::{Features, NormStats};
+
+/// Everything a trainer draws its batches from and evaluates on.
+pub struct TrainData {
+    /// Normalised training clips (takes and mirrors) and their style labels.
+    pub clips: Vec<Features>,
+    pub styles: Vec<usize>,
+    pub sampler: WindowSampler,
+    /// The fixed held-out windows and pairs.
+    pub heldout: HeldoutSet,
+    /// Whole held-out takes, normalised, with their labels (the classifier's evaluation).
+    pub heldout_takes: Vec<(Features, usize)>,
+    pub norm: NormStats,
+    pub batch: usize,
+    pub window: usize,
+    pub device: Device,
+}
+
+/// Normalised copies of clips.
+fn normalized(clips: &[Clip], norm: &NormStats) -> Vec<Features> {
+    clips
+        .iter()
+        .map(|c| {
+            let mut f = c.features.clone();
+            norm.normalize(&mut f);
+            f
+        })
+        .collect()
+}
+
+impl TrainData {
+    /// Loads the takes of `opts.data`, split by the run's split file; `norm` is the run's
+    /// statistics (`None`: computed from the training clips). Fills in `config`'s counts and says
+    /// what was loaded through `say`.
+    pub fn load(
+        opts: &TrainOptions,
+        config: &mut RunConfig,
+        norm: Option<NormStats>,
+        device: &Device,
+        say: &dyn Fn(String),
+    ) -> anyhow::Result<TrainData> {
+        let t_load = Instant::now();
+        let split_text = std::fs::read_to_string(&config.split)
+            .with_context(|| format!("cannot read the split file {} (--split)", config.split))?;
+        let split = Split::parse(&split_text).with_context(|| format!("split file {}", config.split))?;
+        let mut last_report = Instant::now();
+        let corpus = corpus::load(&opts.data, &split, opts.loader_threads(), |done, total| {
+            if done == total || last_report.elapsed().as_secs_f64() > 5.0 {
+                say(format!("loading takes: {done}/{total}"));
+                last_report = Instant::now();
+            }
+        })
+        .with_context(|| format!("cannot load the data in {}", opts.data.display()))?;
+        for (path, why) in &corpus.failed {
+            eprintln!("warning: skipped {}: {why}", path.display());
+        }
+        let norm = match norm {
+            Some(n) => n,
+            None => corpus.norm_stats().context("normalisation statistics")?,
+        };
+        let window = config.settings.window;
+        let clips = normalized(&corpus.train, &norm);
+        let styles: Vec<usize> = corpus.train.iter().map(|c| c.style.index()).collect();
+        let frames: Vec<usize> = clips.iter().map(Features::frames).collect();
+        let sampler = WindowSampler::new(&frames, &styles, window);
+        ensure!(sampler.eligible() > 0, "no training take has {window} frames or more (--window {window})");
+        let heldout = HeldoutSet::new(&corpus.heldout, &norm, window, opts.eval_windows);
+        let heldout_takes = normalized(&corpus.heldout, &norm)
+            .into_iter()
+            .zip(corpus.heldout.iter().map(|c| c.style.index()))
+            .collect();
+        config.train_clips = sampler.eligible();
+        config.train_clips_skipped = sampler.skipped();
+        config.eval_windows = heldout.len();
+        config.heldout_skipped = heldout.skipped;
+
+        let (train_frames, heldout_frames) = corpus.frames();
+        say(format!(
+            "data: {} training clips (takes + mirrors, {train_frames} frames), {} held-out takes ({heldout_frames} \
+             frames), loaded in {:.1} s",
+            corpus.train.len(),
+            corpus.heldout.len(),
+            t_load.elapsed().as_secs_f64()
+        ));
+        say(format!(
+            "window {window} frames: {} training clips used, {} skipped as shorter ({} distinct windows); {} held-out \
+             windows, {} held-out takes skipped",
+            sampler.eligible(),
+            sampler.skipped(),
+            sampler.windows(),
+            heldout.len(),
+            heldout.skipped
+        ));
+        if config.stage != "ae" {
+            let names: Vec<String> = sampler.styles().iter().map(|(s, n)| format!("{} {n}", STYLES[*s])).collect();
+            say(format!("styles (clips): {}", names.join(", ")));
+        }
+        Ok(TrainData {
+            clips,
+            styles,
+            sampler,
+            heldout,
+            heldout_takes,
+            norm,
+            batch: config.settings.batch,
+            window,
+            device: device.clone(),
+        })
+    }
+}

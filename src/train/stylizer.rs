@@ -1,0 +1,233 @@
+//! Stage 2: the stylizer — content encoder, style encoder and generator ([`StylizerTrainer`]) — on
+//! latents of a frozen autoencoder, with style-balanced homo-style pairs of windows.
+
+use burn::module::Module;
+use burn::optim::{GradientsParams, ModuleOptimizer};
+use burn::prelude::*;
+
+use super::data::TrainData;
+use super::eval;
+use super::losses::{StylizerInputs, StylizerWeights, stylizer_loss};
+use super::optim::{
+    adam, clip_factor, clip_grad_norm, optimizers_from_bytes, optimizers_to_bytes, read_scalars, scale_grads,
+    squared_norm_parts, total_norm,
+};
+use super::rundir::{load_module, module_bytes};
+use super::sampler::{SamplerRng, batch_tensor};
+use super::settings::TrainConfig;
+use super::trainer::{Trainer, step_report};
+use crate::features::DIM;
+use crate::model::autoencoder::ae_input;
+use crate::model::init::seeded_xavier;
+use crate::model::layers::one_hot;
+use crate::model::{ModelConfig, ModelError, MotionAutoencoder, NoiseRng, Stylizer, check_features};
+
+/// A stylizer batch: per row, two clips of the same sequence and (supervised) its style label.
+#[derive(Clone, Debug)]
+pub struct StylizerBatch {
+    /// `[B, 260, T]`, normalised features.
+    pub motion1: Tensor<3>,
+    /// `[B, 260, T]`, another clip of the same sequence as `motion1`'s row.
+    pub motion2: Tensor<3>,
+    /// One label per row (supervised) or `None`.
+    pub labels: Option<Vec<usize>>,
+}
+
+step_report! {
+    /// Losses of one stylizer step (before the update), unweighted terms as in
+    /// [`StylizerLosses`](super::losses::StylizerLosses).
+    pub struct StylizerStepReport {
+        pub loss,
+        pub rec_latent,
+        pub rec_pose,
+        pub cyc_latent,
+        pub cyc_pose,
+        pub kl,
+        pub hsa,
+        /// Gradient norms before clipping: content + style encoders, generator.
+        pub encoders_grad_norm,
+        pub generator_grad_norm,
+    }
+}
+
+/// Stage 2: content encoder, style encoder and generator on latents of a frozen autoencoder.
+pub struct StylizerTrainer {
+    pub config: ModelConfig,
+    pub train: TrainConfig,
+    pub weights: StylizerWeights,
+    /// Frozen (no gradients, dropout off), on the autodiff device so gradients flow through the
+    /// decoder into the generator.
+    pub autoencoder: MotionAutoencoder,
+    /// On the autodiff device.
+    pub net: Stylizer,
+    optim: ModuleOptimizer,
+    noise: NoiseRng,
+    device: Device,
+}
+
+impl StylizerTrainer {
+    /// Fresh stylizer networks on `device.autodiff()` (weights from `seed`) over the given
+    /// (trained) autoencoder, which may live on the plain or the autodiff device of the same
+    /// backend.
+    pub fn new(
+        config: ModelConfig,
+        train: TrainConfig,
+        autoencoder: MotionAutoencoder,
+        device: &Device,
+        seed: u64,
+    ) -> Self {
+        let device = device.clone().autodiff();
+        device.seed(seed);
+        let autoencoder = autoencoder.valid().train().freeze();
+        let net = seeded_xavier(Stylizer::new(&config, &device), seed);
+        let weights = train.stylizer_weights.unwrap_or_else(|| StylizerWeights::paper(config.supervised));
+        Self {
+            config,
+            train,
+            weights,
+            autoencoder,
+            net,
+            optim: adam(),
+            noise: NoiseRng::new(seed ^ 0x5eed_57e0),
+            device,
+        }
+    }
+
+    /// The training device (autodiff).
+    pub fn device(&self) -> &Device {
+        &self.device
+    }
+
+    /// Latent of features through the frozen encoder (a sample for the VAE, as the reference),
+    /// without gradient.
+    fn latent(&mut self, features: Tensor<3>) -> Tensor<3> {
+        let dist = self.autoencoder.encoder.forward(ae_input(features));
+        let z = match dist.logvar {
+            Some(logvar) => {
+                let [b, d, l] = dist.mean.dims();
+                let eps: Tensor<3> = self.noise.normal_tensor(b, d * l, &self.device).reshape([b, d, l]);
+                dist.mean + (logvar * 0.5).exp() * eps
+            }
+            None => dist.mean,
+        };
+        z.detach()
+    }
+
+    /// One Adam step.
+    pub fn step(&mut self, batch: &StylizerBatch) -> Result<StylizerStepReport, ModelError> {
+        check_features("clip 1 features", &batch.motion1)?;
+        check_features("clip 2 features", &batch.motion2)?;
+        let [b, _, t] = batch.motion1.dims();
+        if batch.motion2.dims() != [b, DIM, t] {
+            let got = batch.motion2.dims()[0];
+            return Err(ModelError::BatchSize { what: "clip 2 (same shape as clip 1)", expected: b, got });
+        }
+        let labels = match (self.config.supervised, &batch.labels) {
+            (false, _) => None,
+            (true, None) => return Err(ModelError::Label("supervised training needs style labels".into())),
+            (true, Some(labels)) => {
+                if labels.len() != b {
+                    return Err(ModelError::BatchSize { what: "style labels", expected: b, got: labels.len() });
+                }
+                if let Some(&bad) = labels.iter().find(|&&l| l >= self.config.num_styles) {
+                    return Err(ModelError::Label(format!("label {bad} out of range {}", self.config.num_styles)));
+                }
+                Some(one_hot(labels, self.config.num_styles, &self.device))
+            }
+        };
+        let motion1 = batch.motion1.clone().to_device(&self.device).autodiff();
+        let motion2 = batch.motion2.clone().to_device(&self.device).autodiff();
+        let inputs = StylizerInputs {
+            latent1: self.latent(motion1.clone()),
+            latent2: self.latent(motion2.clone()),
+            motion1,
+            motion2,
+            labels,
+        };
+        let losses = stylizer_loss(&self.net, &self.autoencoder.decoder, &inputs, &self.weights, &mut self.noise);
+
+        let mut grads = losses.total.backward();
+        let mut g = GradientsParams::from_module(&mut grads, &self.net);
+        // As the reference: one norm over both encoders, one over the generator.
+        let clip = self.train.grad_clip_norm;
+        let mut enc_parts = squared_norm_parts(&self.net.content_encoder, &g);
+        enc_parts.extend(squared_norm_parts(&self.net.style_encoder, &g));
+        let encoders_grad_norm = total_norm(enc_parts);
+        if let Some(factor) = clip_factor(encoders_grad_norm, clip) {
+            scale_grads(&self.net.content_encoder, &mut g, factor);
+            scale_grads(&self.net.style_encoder, &mut g, factor);
+        }
+        let generator_grad_norm = clip_grad_norm(&self.net.generator, &mut g, clip);
+
+        let [loss, rec_latent, rec_pose, cyc_latent, cyc_pose, kl, hsa] = read_scalars([
+            losses.total,
+            losses.rec_latent,
+            losses.rec_pose,
+            losses.cyc_latent,
+            losses.cyc_pose,
+            losses.kl,
+            losses.hsa,
+        ]);
+        self.net = self.optim.step(self.train.lr, self.net.clone(), g);
+        Ok(StylizerStepReport {
+            loss,
+            rec_latent,
+            rec_pose,
+            cyc_latent,
+            cyc_pose,
+            kl,
+            hsa,
+            encoders_grad_norm,
+            generator_grad_norm,
+        })
+    }
+}
+
+impl Trainer for StylizerTrainer {
+    type Report = StylizerStepReport;
+    const SHOWN: &'static [(&'static str, &'static str)] =
+        &[("loss", "loss"), ("rec_pose", "rec_pose"), ("hsa", "hsa")];
+    const METRICS: &'static [&'static str] = &eval::STYLIZER_METRICS;
+
+    fn train_step(&mut self, data: &TrainData, rng: &mut SamplerRng) -> anyhow::Result<StylizerStepReport> {
+        let pairs: Vec<_> = (0..data.batch).map(|_| data.sampler.pair(rng)).collect();
+        let first: Vec<_> = pairs.iter().map(|p| p.0).collect();
+        let second: Vec<_> = pairs.iter().map(|p| p.1).collect();
+        debug_assert!(pairs.iter().all(|p| data.styles[p.0.clip] == p.2));
+        let batch = StylizerBatch {
+            motion1: batch_tensor(&data.clips, &first, data.window, &data.device),
+            motion2: batch_tensor(&data.clips, &second, data.window, &data.device),
+            labels: self.config.supervised.then(|| pairs.iter().map(|p| p.2).collect()),
+        };
+        Ok(self.step(&batch)?)
+    }
+
+    fn evaluate(&self, data: &TrainData) -> Vec<f64> {
+        let net = self.net.clone().valid();
+        let ae = self.autoencoder.clone().valid();
+        let styles = self.config.supervised.then_some(self.config.num_styles);
+        eval::evaluate_stylizer(&net, &ae, &self.weights, styles, &data.heldout, data.batch, &data.device)
+    }
+
+    fn learning_rates(&self) -> Vec<(&'static str, f64)> {
+        vec![("lr", self.train.lr)]
+    }
+
+    fn weights(&self) -> anyhow::Result<Vec<u8>> {
+        module_bytes(self.net.clone().valid())
+    }
+
+    fn load_weights(&mut self, bytes: &[u8]) -> anyhow::Result<()> {
+        self.net = load_module(Stylizer::new(&self.config, &self.device), bytes)?;
+        Ok(())
+    }
+
+    fn optimizer_state(&self) -> Result<Vec<u8>, ModelError> {
+        optimizers_to_bytes(&[&self.optim])
+    }
+
+    fn load_optimizer_state(&mut self, bytes: &[u8]) -> Result<(), ModelError> {
+        [self.optim] = optimizers_from_bytes(bytes)?;
+        Ok(())
+    }
+}
