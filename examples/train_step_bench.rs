@@ -23,7 +23,7 @@ mod bench {
 
     use burn::prelude::*;
     use motion_stylizer::model::{ModelConfig, MotionAutoencoder, NoiseRng};
-    use motion_stylizer::train::{AeTrainer, StylizerBatch, StylizerTrainer, TrainConfig};
+    use motion_stylizer::train::{AeTrainer, PhaseTimes, StylizerBatch, StylizerTrainer, TrainConfig};
 
     const B: usize = 16;
     const T: usize = 160;
@@ -77,8 +77,10 @@ mod bench {
                 let mut ae = AeTrainer::new(cfg.clone(), TrainConfig::default(), &device, 1);
                 let params = (ae.autoencoder.num_params() + ae.regressor.num_params()) as f64 / 1e6;
                 let ae_s = time_steps(steps, || {
+                    ae.phases = Some(PhaseTimes::default());
                     ae.step(x1.clone()).unwrap();
                 });
+                let ae_phases = ae.phases.unwrap_or_default();
                 drop(ae);
 
                 let frozen = MotionAutoencoder::new(&cfg, &device);
@@ -86,9 +88,21 @@ mod bench {
                 let params = params + st.net.num_params() as f64 / 1e6;
                 let batch = StylizerBatch { motion1: x1.clone(), motion2: x2.clone(), labels: Some(labels) };
                 let st_s = time_steps(steps, || {
+                    st.phases = Some(PhaseTimes::default());
                     st.step(&batch).unwrap();
                 });
+                let st_phases = st.phases.unwrap_or_default();
                 println!("{name:<8} {w:>6} {ae_s:>12.3} {st_s:>12.3} {params:>10.2}");
+                for (stage, p) in [("ae+regr", ae_phases), ("stylizer", st_phases)] {
+                    let n = p.steps.max(1) as f64; // 1: the phases are reset before each step
+                    println!(
+                        "  {stage:<9} last step: forward {:.3} s, backward {:.3} s, clip {:.3} s, update {:.3} s",
+                        p.forward / n,
+                        p.backward / n,
+                        p.clip / n,
+                        p.update / n
+                    );
+                }
             }
         }
     }

@@ -12,10 +12,11 @@ use super::optim::{adam, clip_grad_norm, optimizers_from_bytes, optimizers_to_by
 use super::rundir::{load_module, module_bytes};
 use super::sampler::{SamplerRng, batch_tensor};
 use super::settings::TrainConfig;
-use super::trainer::{Trainer, step_report};
+use super::trainer::{PhaseTimes, Trainer, step_report};
 use crate::model::init::seeded_xavier;
 use crate::model::regressor::{regressor_input, regressor_target};
 use crate::model::{GlobalRegressor, ModelConfig, ModelError, MotionAutoencoder, NoiseRng, check_features};
+use std::time::Instant;
 
 step_report! {
     /// Losses of one autoencoder + regressor step (before the update).
@@ -60,6 +61,8 @@ pub struct AeTrainer {
     optim_regressor: ModuleOptimizer,
     noise: NoiseRng,
     device: Device,
+    /// Time per phase of the steps, when measured.
+    pub phases: Option<PhaseTimes>,
 }
 
 impl AeTrainer {
@@ -79,6 +82,7 @@ impl AeTrainer {
             optim_regressor: adam(),
             noise: NoiseRng::new(seed ^ 0x5eed_ae00),
             device,
+            phases: None,
         }
     }
 
@@ -90,20 +94,27 @@ impl AeTrainer {
     /// One Adam step on features `[B, 260, T]` (normalised; T a multiple of 8).
     pub fn step(&mut self, features: Tensor<3>) -> Result<AeStepReport, ModelError> {
         check_features("pose features", &features)?;
+        let t0 = Instant::now();
         let x = features.to_device(&self.device).autodiff();
         let ae = autoencoder_loss(&self.autoencoder, x.clone(), &self.train, &mut self.noise);
         let regressor_loss = l1(self.regressor.forward(regressor_input(x.clone())), regressor_target(x));
 
+        let t1 = Instant::now();
         let mut grads = (ae.total.clone() + regressor_loss.clone()).backward();
         let mut g_ae = GradientsParams::from_module(&mut grads, &self.autoencoder);
         let mut g_reg = GradientsParams::from_module(&mut grads, &self.regressor);
+        let t2 = Instant::now();
         let ae_grad_norm = clip_grad_norm(&self.autoencoder, &mut g_ae, self.train.grad_clip_norm);
         let regressor_grad_norm = clip_grad_norm(&self.regressor, &mut g_reg, self.train.grad_clip_norm);
+        let t3 = Instant::now();
 
         let [ae_loss, reconstruction, sparsity, smoothness, kl, regressor_loss] =
             read_scalars([ae.total, ae.reconstruction, ae.sparsity, ae.smoothness, ae.kl, regressor_loss]);
         self.autoencoder = self.optim_ae.step(self.train.lr, self.autoencoder.clone(), g_ae);
         self.regressor = self.optim_regressor.step(self.train.regressor_lr, self.regressor.clone(), g_reg);
+        if let Some(p) = &mut self.phases {
+            p.add([t0, t1, t2, t3, Instant::now()]);
+        }
         Ok(AeStepReport {
             ae_loss,
             reconstruction,

@@ -71,7 +71,7 @@ pub use settings::{
     TrainOptions, check_window,
 };
 pub use stylizer::{StylizerBatch, StylizerStepReport, StylizerTrainer};
-pub use trainer::{StepReport, Trainer};
+pub use trainer::{PhaseTimes, StepReport, Trainer};
 
 /// Salt of the window sampler's seed (so its stream differs from the weight initialisation's,
 /// which is seeded with the run's seed itself).

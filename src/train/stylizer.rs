@@ -15,12 +15,13 @@ use super::optim::{
 use super::rundir::{load_module, module_bytes};
 use super::sampler::{SamplerRng, batch_tensor};
 use super::settings::TrainConfig;
-use super::trainer::{Trainer, step_report};
+use super::trainer::{PhaseTimes, Trainer, step_report};
 use crate::features::DIM;
 use crate::model::autoencoder::ae_input;
 use crate::model::init::seeded_xavier;
 use crate::model::layers::one_hot;
 use crate::model::{ModelConfig, ModelError, MotionAutoencoder, NoiseRng, Stylizer, check_features};
+use std::time::Instant;
 
 /// A stylizer batch: per row, two clips of the same sequence and (supervised) its style label.
 #[derive(Clone, Debug)]
@@ -63,6 +64,8 @@ pub struct StylizerTrainer {
     optim: ModuleOptimizer,
     noise: NoiseRng,
     device: Device,
+    /// Time per phase of the steps, when measured.
+    pub phases: Option<PhaseTimes>,
 }
 
 impl StylizerTrainer {
@@ -90,6 +93,7 @@ impl StylizerTrainer {
             optim: adam(),
             noise: NoiseRng::new(seed ^ 0x5eed_57e0),
             device,
+            phases: None,
         }
     }
 
@@ -135,6 +139,7 @@ impl StylizerTrainer {
                 Some(one_hot(labels, self.config.num_styles, &self.device))
             }
         };
+        let t0 = Instant::now();
         let motion1 = batch.motion1.clone().to_device(&self.device).autodiff();
         let motion2 = batch.motion2.clone().to_device(&self.device).autodiff();
         let inputs = StylizerInputs {
@@ -146,8 +151,10 @@ impl StylizerTrainer {
         };
         let losses = stylizer_loss(&self.net, &self.autoencoder.decoder, &inputs, &self.weights, &mut self.noise);
 
+        let t1 = Instant::now();
         let mut grads = losses.total.backward();
         let mut g = GradientsParams::from_module(&mut grads, &self.net);
+        let t2 = Instant::now();
         // As the reference: one norm over both encoders, one over the generator.
         let clip = self.train.grad_clip_norm;
         let mut enc_parts = squared_norm_parts(&self.net.content_encoder, &g);
@@ -158,6 +165,7 @@ impl StylizerTrainer {
             scale_grads(&self.net.style_encoder, &mut g, factor);
         }
         let generator_grad_norm = clip_grad_norm(&self.net.generator, &mut g, clip);
+        let t3 = Instant::now();
 
         let [loss, rec_latent, rec_pose, cyc_latent, cyc_pose, kl, hsa] = read_scalars([
             losses.total,
@@ -169,6 +177,9 @@ impl StylizerTrainer {
             losses.hsa,
         ]);
         self.net = self.optim.step(self.train.lr, self.net.clone(), g);
+        if let Some(p) = &mut self.phases {
+            p.add([t0, t1, t2, t3, Instant::now()]);
+        }
         Ok(StylizerStepReport {
             loss,
             rec_latent,

@@ -34,6 +34,35 @@ macro_rules! step_report {
 }
 pub(crate) use step_report;
 
+/// Where a trainer's steps spend their time, summed over the steps measured (set
+/// `trainer.phases = Some(PhaseTimes::default())` to measure; the CPU backend runs eagerly, so
+/// each phase's seconds are its own work).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PhaseTimes {
+    /// Steps measured.
+    pub steps: u64,
+    /// Forward pass and losses (the frozen encoder's latents included).
+    pub forward: f64,
+    /// Backward pass (autodiff) and collecting each network's gradients.
+    pub backward: f64,
+    /// Gradient norms and clipping.
+    pub clip: f64,
+    /// Reading the losses back and the Adam update.
+    pub update: f64,
+}
+
+impl PhaseTimes {
+    /// Adds one step's phase boundaries `[start, forward, backward, clip, update]`.
+    pub fn add(&mut self, marks: [std::time::Instant; 5]) {
+        let secs = |i: usize| marks[i + 1].duration_since(marks[i]).as_secs_f64();
+        self.steps += 1;
+        self.forward += secs(0);
+        self.backward += secs(1);
+        self.clip += secs(2);
+        self.update += secs(3);
+    }
+}
+
 /// A stage's trainer as the loop drives it: a step on a batch it draws from the training data,
 /// the held-out evaluation, and the state a checkpoint saves.
 pub trait Trainer {
