@@ -15,7 +15,7 @@ export type ErrorCode =
   | 'BACKEND_UNAVAILABLE' // a backend this build does not have
   | 'FETCH' // a package or weights file could not be fetched
   | 'MODEL_OUTPUT'
-  | 'INTERNAL';
+  | 'INTERNAL'; // a bug: the engine trapped (a panic, with its message); the next call runs on a fresh engine
 
 export interface StylizerError extends Error {
   code: ErrorCode;
@@ -33,12 +33,28 @@ export interface WeightFiles {
   unsupervised?: Bytes;
 }
 
+/** Bytes of the weights fetched (or read) so far, of `total`. */
+export interface LoadProgress {
+  loaded: number;
+  /**
+   * The sum of the files' sizes as announced (Content-Length, or the file sizes in Node); 0 while
+   * unknown. Only the last call, once every byte has arrived, has `loaded === total`.
+   */
+  total: number;
+}
+
 export interface LoadOptions {
   /**
    * Default: the weights shipped in the package. A folder URL (relative ones: to the page in
-   * browsers, to the package in Node; absolute paths work in Node), or the files' bytes.
+   * browsers, to the package in Node; absolute paths work in Node), the files' bytes, or a loaded
+   * Stylizer, whose weights (kept in memory) are used again without fetching.
    */
-  weights?: string | URL | WeightFiles;
+  weights?: string | URL | WeightFiles | Stylizer;
+  /**
+   * Called as the weights are fetched (or read): the statistics and model bundles (manifest.json,
+   * a few kB, is read first and not counted). Not called for weights given as bytes or a Stylizer.
+   */
+  onProgress?: (progress: LoadProgress) => void;
   /** 'cpu' (default, Burn flex with wasm SIMD); 'webgpu' falls back to 'cpu' (see fallbackReason). */
   backend?: 'cpu' | 'webgpu' | 'ndarray';
   /** Which models to load (default both). */
@@ -61,6 +77,28 @@ export class Motion {
     floor: number;
     base_pose: string;
   };
+  /**
+   * The file as it was given, for drawing it: its joints and their world positions by the
+   * package's forward kinematics, in the file's units and axes. Every step-th frame only, where
+   * the file is faster than 60 fps (step = floor(1 / (60 · frame time))) or has more than
+   * 6,000,000 position values; `fps` and `frames` are after that step, `file` the file's own.
+   */
+  source(): SourceMotion;
+  /** Releases its memory in the engine now rather than when garbage-collected (a later use imports it again). */
+  free(): void;
+}
+
+export interface SourceMotion {
+  /** Joint names, in file order (a parent before its children). */
+  names: string[];
+  /** Each joint's parent index, -1 for the root. */
+  parents: number[];
+  fps: number;
+  frames: number;
+  /** World joint positions: frames × joints × 3. */
+  positions: Float32Array;
+  /** The file's own frame count and rate. */
+  file: { frames: number; fps: number };
 }
 
 /** One style source. With the supervised model, `styleMotion` needs the reference's `label`. */
@@ -95,6 +133,8 @@ export class StylizedMotion {
   toBvh(): string;
   /** World joint positions: frames × joints × 3. */
   positions(): Float32Array;
+  /** Releases its memory in the engine now rather than when garbage-collected; it cannot be used after. */
+  free(): void;
 }
 
 export class Stylizer {
@@ -103,12 +143,19 @@ export class Stylizer {
   readonly backend: string;
   /** Why the requested backend is not the one in use; null when it is. */
   readonly fallbackReason: string | null;
-  /** Milliseconds Stylizer.load took (wasm start-up and weights). */
+  /** Milliseconds Stylizer.load took (wasm start-up, fetching and loading the weights). */
   readonly loadMs: number;
+  /**
+   * The weights' fingerprint, 8 hex digits (FNV-1a of manifest.json's and the statistics' bytes):
+   * the same weights, the same id.
+   */
+  readonly weightsId: string;
   styles(): string[];
   settings(): Array<'supervised' | 'unsupervised'>;
   importBvh(text: string): Motion;
   stylize(content: Motion | string, options: StylizeOptions): Promise<StylizedMotion[]>;
+  /** Releases the engine's memory now rather than when garbage-collected (a later call loads the kept weights again). */
+  free(): void;
 }
 
 export default Stylizer;

@@ -17,20 +17,17 @@ cargo build --release --lib --target wasm32-unknown-unknown --no-default-feature
 out=pkg
 find "$out" -mindepth 1 ! -name .gitkeep -delete 2>/dev/null || true
 mkdir -p "$out/weights"
-wasm-bindgen --target web --out-dir "$out" --out-name engine \
+# --experimental-reset-state-function: engine.js's __wbg_reset_state, with which the JS wrapper
+# replaces an instance that trapped (the panic backstop, js/index.js) by a fresh one.
+wasm-bindgen --target web --experimental-reset-state-function --out-dir "$out" --out-name engine \
   "$target_dir/wasm32-unknown-unknown/release/motion_stylizer.wasm"
 rm -f "$out/.gitignore"
 cp js/index.js js/index.d.ts js/README.md "$out/"
 cp LICENSE* "$out/" 2>/dev/null || true
 
-# The weights the manifest lists (manifest, statistics, one bundle per setting).
-weights=assets/weights
-cp "$weights/manifest.json" "$out/weights/"
-node -e '
-  const m = require(process.argv[1]);
-  for (const f of [m.norm, ...m.models.map((e) => e.file)]) console.log(f);
-' "$PWD/$weights/manifest.json" | while read -r f; do cp "$weights/$f" "$out/weights/"; done
-cp "$weights/README.md" "$out/weights/" 2>/dev/null || true
+# The shipped weights: every file of assets/weights/ (manifest, statistics, one bundle per setting,
+# their README). The package's JS is the one reader of the manifest.
+find assets/weights -maxdepth 1 -type f -exec cp {} "$out/weights/" \;
 
 # package.json with the crate's version.
 version=$(awk -F'"' '/^version = / { print $2; exit }' Cargo.toml)

@@ -2,12 +2,14 @@
 //! runner: `make test-wasm`, or
 //! `cargo test --release --target wasm32-unknown-unknown --no-default-features --features model,wasm --test wasm_facade`.
 //!
-//! Every foreign-rig fixture imports and stylizes in every mode; outputs are deterministic; every
-//! refusal is a JS `Error` with the right `code`; inputs that once could crash the module do not.
+//! Every foreign-rig fixture imports (keeping its source file's own joint positions) and stylizes in
+//! every mode; outputs are deterministic; the stylize options are checked; every refusal is a JS
+//! `Error` with the right `code`; inputs that once could crash the module do not.
 //! (Equality with the native CLI is checked on the built package: `tests/npm/`.)
 #![cfg(all(target_arch = "wasm32", feature = "wasm"))]
 
-use motion_stylizer::wasm::{Content, Engine, Output, StyleSpec};
+use motion_stylizer::bvh::{Bvh, Channel};
+use motion_stylizer::wasm::{Engine, ImportedMotion, StyleSpec, StylizedMotion};
 use wasm_bindgen::{JsCast, JsValue};
 use wasm_bindgen_test::wasm_bindgen_test;
 
@@ -52,26 +54,47 @@ fn err_code<T>(r: Result<T, JsValue>) -> String {
     }
 }
 
-fn import(text: &str) -> Content {
-    Content::from_bvh(text).unwrap_or_else(|e| panic!("import: {}", message(&e)))
+fn import(text: &str) -> ImportedMotion {
+    ImportedMotion::from_bvh(text).unwrap_or_else(|e| panic!("import: {}", message(&e)))
+}
+
+/// An object of `(key, value)` properties.
+fn object(properties: &[(&str, JsValue)]) -> JsValue {
+    let o = js_sys::Object::new();
+    for (key, value) in properties {
+        js_sys::Reflect::set(&o, &JsValue::from_str(key), value).unwrap();
+    }
+    o.into()
+}
+
+/// The options object of [`Engine::stylize`] (`temperature` absent when `None`).
+fn options(unsupervised: bool, samples: f64, seed: JsValue, canonical: bool, temperature: Option<f64>) -> JsValue {
+    let mut properties = vec![
+        ("unsupervised", JsValue::from_bool(unsupervised)),
+        ("samples", JsValue::from_f64(samples)),
+        ("seed", seed),
+        ("canonical", JsValue::from_bool(canonical)),
+    ];
+    properties.extend(temperature.map(|t| ("temperature", JsValue::from_f64(t))));
+    object(&properties)
 }
 
 /// Stylize with `engine`, panicking with the JS error's message.
 fn run(
     engine: &Engine,
-    content: &Content,
+    content: &ImportedMotion,
     style: &StyleSpec,
     unsupervised: bool,
     samples: f64,
     seed: u64,
     canonical: bool,
-) -> Vec<Output> {
+) -> Vec<StylizedMotion> {
     engine
-        .stylize(content, style, unsupervised, samples, JsValue::from_f64(seed as f64), canonical, None)
+        .stylize(content, style, options(unsupervised, samples, JsValue::from_f64(seed as f64), canonical, None))
         .unwrap_or_else(|e| panic!("stylize: {} ({})", message(&e), code(&e)))
 }
 
-fn check_output(out: &Output, frames: usize) {
+fn check_output(out: &StylizedMotion, frames: usize) {
     assert_eq!(out.frames(), frames);
     assert_eq!(out.fps(), 30.0);
     let names = out.joint_names();
@@ -89,7 +112,7 @@ fn check_output(out: &Output, frames: usize) {
 #[wasm_bindgen_test]
 fn every_foreign_fixture_imports_with_its_rig() {
     for ((name, text), rig) in FOREIGN.iter().zip(RIGS) {
-        let c = Content::from_bvh(text).unwrap_or_else(|e| panic!("{name}: {}", message(&e)));
+        let c = ImportedMotion::from_bvh(text).unwrap_or_else(|e| panic!("{name}: {}", message(&e)));
         assert_eq!(&c.rig(), rig, "{name}");
         assert!(c.frames() >= 1, "{name}");
         assert_eq!(c.fps(), 30.0);
@@ -145,19 +168,20 @@ fn same_input_and_seed_give_the_same_bits() {
     ENGINE.with(|e| {
         let content = import(FOREIGN[3].1);
         let style = StyleSpec::label("tired".into());
-        let texts =
-            |seed| run(e, &content, &style, false, 3.0, seed, false).iter().map(Output::to_bvh).collect::<Vec<_>>();
+        let texts = |seed| {
+            run(e, &content, &style, false, 3.0, seed, false).iter().map(StylizedMotion::to_bvh).collect::<Vec<_>>()
+        };
         let first = texts(11);
         assert_eq!(first, texts(11));
         assert_eq!(first, texts(11));
         assert_ne!(first, texts(12));
         assert_ne!(first[0], first[1], "samples differ");
         // A BigInt seed is the same seed as the number.
-        let big = e.stylize(&content, &style, false, 3.0, JsValue::from(11u64), false, None).unwrap();
-        assert_eq!(first, big.iter().map(Output::to_bvh).collect::<Vec<_>>());
+        let big = e.stylize(&content, &style, options(false, 3.0, JsValue::from(11u64), false, None)).unwrap();
+        assert_eq!(first, big.iter().map(StylizedMotion::to_bvh).collect::<Vec<_>>());
         // Temperature: undefined is the library's default; 0 draws the zero code whatever the seed.
         let with_t = |seed: f64, t: Option<f64>| {
-            e.stylize(&content, &style, false, 1.0, JsValue::from_f64(seed), false, t).unwrap()[0].to_bvh()
+            e.stylize(&content, &style, options(false, 1.0, JsValue::from_f64(seed), false, t)).unwrap()[0].to_bvh()
         };
         let default_t = f64::from(motion_stylizer::stylize::DEFAULT_TEMPERATURE);
         assert_eq!(with_t(11.0, None), with_t(11.0, Some(default_t)));
@@ -186,7 +210,7 @@ fn malformed_bvh_gives_bvh_parse_with_line_and_kind() {
         (include_str!("malformed/channels_over_limit.bvh"), "LimitExceeded", 5),
     ];
     for &(text, kind, line) in CASES {
-        let e = match Content::from_bvh(text) {
+        let e = match ImportedMotion::from_bvh(text) {
             Ok(_) => panic!("parsed: {text:.60}"),
             Err(e) => e,
         };
@@ -198,9 +222,45 @@ fn malformed_bvh_gives_bvh_parse_with_line_and_kind() {
     }
 }
 
+/// The motion keeps its source file: joint names, parents, frames, frame time, and the file's own
+/// joint positions (every `step`-th frame) by the crate's forward kinematics.
+#[wasm_bindgen_test]
+fn the_source_file_gives_its_own_joint_positions() {
+    for (name, text) in FOREIGN {
+        let m = import(text);
+        let bvh = Bvh::parse(text).unwrap();
+        let joints = bvh.joints.len();
+        assert_eq!(m.source_joint_names(), bvh.joints.iter().map(|j| j.name.clone()).collect::<Vec<_>>(), "{name}");
+        let parents = m.source_parents();
+        assert_eq!(parents.len(), joints);
+        assert_eq!(parents[0], -1);
+        assert!(parents.iter().enumerate().skip(1).all(|(i, &p)| p >= 0 && (p as usize) < i), "{name}");
+        assert_eq!((m.source_frames(), m.source_frame_time()), (bvh.frames, bvh.frame_time), "{name}");
+        let all = m.source_positions(1);
+        assert_eq!(all.len(), bvh.frames * joints * 3, "{name}");
+        assert_eq!(m.source_positions(0), all, "{name}: a step of 0 is 1");
+        for f in 0..bvh.frames {
+            let (pose, _) = bvh.global_pose(f);
+            let expected: Vec<f32> = pose.iter().flat_map(|p| [p.x as f32, p.y as f32, p.z as f32]).collect();
+            assert_eq!(&all[f * joints * 3..(f + 1) * joints * 3], expected.as_slice(), "{name} frame {f}");
+            // The root's position channels are its world position, as the file has them.
+            for (k, channel) in bvh.joints[0].channels.iter().enumerate() {
+                if let Channel::Position(axis) = channel {
+                    assert_eq!(all[f * joints * 3 + axis.index()], bvh.frame(f)[k] as f32, "{name} frame {f}");
+                }
+            }
+        }
+        let every_other = m.source_positions(2);
+        assert_eq!(every_other.len(), bvh.frames.div_ceil(2) * joints * 3, "{name}");
+        for (k, frame) in every_other.chunks(joints * 3).enumerate() {
+            assert_eq!(frame, &all[2 * k * joints * 3..(2 * k + 1) * joints * 3], "{name}");
+        }
+    }
+}
+
 #[wasm_bindgen_test]
 fn rigs_that_cannot_be_used_give_rig_codes() {
-    assert_eq!(err_code(Content::from_bvh(SMALL)), "RIG_UNMATCHED");
+    assert_eq!(err_code(ImportedMotion::from_bvh(SMALL)), "RIG_UNMATCHED");
     // The m21 walk with every bone of zero length.
     let flat: String = FOREIGN[3]
         .1
@@ -208,7 +268,7 @@ fn rigs_that_cannot_be_used_give_rig_codes() {
         .map(|l| if l.trim_start().starts_with("OFFSET") { "OFFSET 0 0 0" } else { l })
         .collect::<Vec<_>>()
         .join("\n");
-    assert_eq!(err_code(Content::from_bvh(&flat)), "RIG_DEGENERATE");
+    assert_eq!(err_code(ImportedMotion::from_bvh(&flat)), "RIG_DEGENERATE");
 }
 
 #[wasm_bindgen_test]
@@ -218,7 +278,7 @@ fn bad_requests_give_their_codes() {
         let reference = import(REFERENCE);
         let label = StyleSpec::label("old".into());
         let call = |style: &StyleSpec, unsupervised: bool, samples: f64, seed: JsValue| {
-            err_code(e.stylize(&content, style, unsupervised, samples, seed, false, None))
+            err_code(e.stylize(&content, style, options(unsupervised, samples, seed, false, None)))
         };
         let zero = JsValue::from_f64(0.0);
         assert_eq!(call(&StyleSpec::label("grumpy".into()), false, 1.0, zero.clone()), "UNKNOWN_LABEL");
@@ -239,7 +299,7 @@ fn bad_requests_give_their_codes() {
         assert_eq!(call(&StyleSpec::motion(&reference, None), false, 1.0, zero.clone()), "BAD_REQUEST");
         assert_eq!(call(&StyleSpec::motion(&reference, Some("old".into())), true, 1.0, zero.clone()), "BAD_REQUEST");
         for temperature in [-0.5, 4.5, f64::NAN, f64::INFINITY] {
-            let r = e.stylize(&content, &label, false, 1.0, zero.clone(), false, Some(temperature));
+            let r = e.stylize(&content, &label, options(false, 1.0, zero.clone(), false, Some(temperature)));
             assert_eq!(err_code(r), "BAD_REQUEST", "temperature {temperature}");
         }
         for t in [-0.1, 1.5, f64::NAN] {
@@ -253,6 +313,43 @@ fn bad_requests_give_their_codes() {
         }
         assert_eq!(run(e, &content, &spec, true, 1.0, 0, true).len(), 1);
         assert_eq!(err_code(StyleSpec::mix(&spec, &StyleSpec::prior(), 0.5)), "BAD_REQUEST");
+    });
+}
+
+/// The options object: absent properties (or no object) are the defaults; properties of the wrong
+/// type, a non-object and a getter that throws are `BAD_REQUEST`s that say what is wrong.
+#[wasm_bindgen_test]
+fn stylize_options_take_defaults_and_refuse_wrong_types() {
+    ENGINE.with(|e| {
+        let content = import(FOREIGN[3].1);
+        let label = StyleSpec::label("old".into());
+        let defaults = run(e, &content, &label, false, 1.0, 0, false)[0].to_bvh();
+        for o in [JsValue::UNDEFINED, JsValue::NULL, object(&[]), object(&[("samples", JsValue::NULL)])] {
+            let outs = e.stylize(&content, &label, o).unwrap_or_else(|e| panic!("{}", message(&e)));
+            assert_eq!(outs.len(), 1);
+            assert_eq!(outs[0].to_bvh(), defaults);
+        }
+        let throwing = js_sys::Object::new();
+        let getter = js_sys::Object::new();
+        js_sys::Reflect::set(&getter, &"get".into(), &js_sys::Function::new_no_args("throw new Error('no')")).unwrap();
+        js_sys::Object::define_property(&throwing, &"samples".into(), &getter);
+        let cases = [
+            (JsValue::from_str("fast"), "the stylize options must be an object"),
+            (object(&[("unsupervised", "yes".into())]), "unsupervised must be a boolean"),
+            (object(&[("canonical", JsValue::from_f64(1.0))]), "canonical must be a boolean"),
+            (object(&[("samples", "2".into())]), "samples must be a number"),
+            (object(&[("samples", JsValue::from_f64(2.5))]), "samples must be a positive integer, got 2.5"),
+            (object(&[("seed", "7".into())]), "seed must be a number or a BigInt"),
+            (object(&[("temperature", "1".into())]), "temperature must be a number in [0, 4]"),
+            (throwing.into(), "cannot read samples"),
+        ];
+        for (o, expected) in cases {
+            let err = match e.stylize(&content, &label, o) {
+                Ok(_) => panic!("expected {expected:?}"),
+                Err(err) => err,
+            };
+            assert_eq!((code(&err).as_str(), message(&err).as_str()), ("BAD_REQUEST", expected));
+        }
     });
 }
 
@@ -273,7 +370,7 @@ fn weights_that_cannot_be_used_give_bad_weights() {
     let only = Engine::new(MANIFEST, NORM, Some(SUPERVISED.to_vec()), None, "cpu").unwrap();
     assert_eq!(only.settings(), ["supervised"]);
     let content = import(FOREIGN[3].1);
-    let r = only.stylize(&content, &StyleSpec::prior(), true, 1.0, JsValue::UNDEFINED, false, None);
+    let r = only.stylize(&content, &StyleSpec::prior(), options(true, 1.0, JsValue::UNDEFINED, false, None));
     assert_eq!(err_code(r), "SETTING_UNAVAILABLE");
 }
 
@@ -346,15 +443,17 @@ fn hostile_inputs_give_results_or_codes_never_a_trap() {
         ];
         for (name, text, expected) in &cases {
             assert!(frame_rows(text) >= 1, "{name}");
-            let outcome = Content::from_bvh(text).and_then(|content| {
-                let reference = Content::from_bvh(text)?;
+            let outcome = ImportedMotion::from_bvh(text).and_then(|content| {
+                let reference = ImportedMotion::from_bvh(text)?;
                 let styles = [
                     (StyleSpec::label("old".into()), false),
                     (StyleSpec::motion(&reference, None), true),
                     (StyleSpec::prior(), false),
                 ];
                 for (style, unsupervised) in &styles {
-                    for out in e.stylize(&content, style, *unsupervised, 2.0, JsValue::from_f64(1.0), false, None)? {
+                    for out in
+                        e.stylize(&content, style, options(*unsupervised, 2.0, JsValue::from_f64(1.0), false, None))?
+                    {
                         check_output(&out, content.frames());
                     }
                 }

@@ -3,11 +3,13 @@
 use burn::prelude::Device;
 use wasm_bindgen::prelude::*;
 
-use super::content::Content;
-use super::error::{bad_request, js_error, stylize_error};
-use super::output::Output;
+use super::error::{js_error, stylize_error};
+use super::motion::ImportedMotion;
+use super::options::StylizeOptions;
+use super::panic;
 use super::style::StyleSpec;
-use crate::stylize::{self, DEFAULT_TEMPERATURE, Request, Setting, Weights};
+use super::stylized::StylizedMotion;
+use crate::stylize::{self, Request, Setting, Weights};
 
 /// The trained models, ready to stylize.
 #[wasm_bindgen]
@@ -41,6 +43,7 @@ impl Engine {
         unsupervised: Option<Vec<u8>>,
         backend: &str,
     ) -> Result<Engine, JsValue> {
+        panic::install();
         let (device, backend) = device(backend)?;
         let weights = Weights::from_bytes_on(&device, manifest, norm, supervised.as_deref(), unsupervised.as_deref())
             .map_err(|e| stylize_error(&e))?;
@@ -63,64 +66,40 @@ impl Engine {
         self.backend.to_string()
     }
 
-    /// Stylizes `content` with the style of `style`: `samples` outputs (1–64) from `seed` (a
-    /// non-negative safe integer or a BigInt below 2^64; `undefined` is 0), with the unsupervised
-    /// model or the supervised one, each on the canonical rig or the content's own; prior draws
-    /// scaled by `temperature` (`undefined`: the library's default). Errors: see
-    /// [`crate::stylize::StylizeError::code`], and `BAD_REQUEST` for `samples` or `seed` values
-    /// that are not integers in range.
-    #[allow(clippy::too_many_arguments)]
+    /// Stylizes `content` with the style of `style`. `options` (each property optional, as is the
+    /// object): `{ unsupervised, samples, seed, canonical, temperature }`: `samples` outputs (1–64,
+    /// default 1) from `seed` (a non-negative safe integer or a BigInt below 2^64, default 0), with
+    /// the unsupervised model or the supervised one (default), each on the canonical rig or the
+    /// content's own (default), prior draws scaled by `temperature` (default the library's).
+    /// Errors: see [`crate::stylize::StylizeError::code`], and `BAD_REQUEST` for options of the
+    /// wrong type and `samples` or `seed` values that are not integers in range.
     pub fn stylize(
         &self,
-        content: &Content,
+        content: &ImportedMotion,
         style: &StyleSpec,
-        unsupervised: bool,
-        samples: f64,
-        seed: JsValue,
-        canonical: bool,
-        temperature: Option<f64>,
-    ) -> Result<Vec<Output>, JsValue> {
-        let samples = count(samples)?;
-        let seed = seed_of(&seed)?;
-        let setting = if unsupervised { Setting::Unsupervised } else { Setting::Supervised };
+        options: JsValue,
+    ) -> Result<Vec<StylizedMotion>, JsValue> {
+        let options = StylizeOptions::from_js(&options)?;
+        let setting = if options.unsupervised { Setting::Unsupervised } else { Setting::Supervised };
         let source = style.source(&self.weights).map_err(|e| stylize_error(&e))?;
         let request = Request::new(source)
             .with_setting(setting)
-            .with_samples(samples)
-            .with_seed(seed)
-            .with_temperature(temperature.map_or(DEFAULT_TEMPERATURE, |t| t as f32));
+            .with_samples(options.samples)
+            .with_seed(options.seed)
+            .with_temperature(options.temperature);
         let motions = stylize::stylize(&self.weights, &content.motion, &request).map_err(|e| stylize_error(&e))?;
         Ok(motions
             .iter()
-            .map(|m| Output::new(if canonical { m.to_bvh() } else { content.rig.from_canonical(m) }))
+            .map(|m| StylizedMotion::new(if options.canonical { m.to_bvh() } else { content.rig.from_canonical(m) }))
             .collect())
     }
-}
 
-/// A non-negative integral number as a count (out-of-range counts are the pipeline's to refuse).
-fn count(n: f64) -> Result<usize, JsValue> {
-    if n.is_finite() && n >= 0.0 && n.fract() == 0.0 {
-        Ok(n.min(usize::MAX as f64) as usize)
-    } else {
-        Err(bad_request(&format!("samples must be a positive integer, got {n}")))
+    /// Internal, for the tests of the panic backstop only (not part of the package's API):
+    /// panics on purpose, which traps the instance. The JS wrapper must then report `INTERNAL`
+    /// with this panic's message and carry on with a fresh instance (`tests/npm/api.test.mjs`).
+    #[doc(hidden)]
+    #[wasm_bindgen(js_name = __panicForTests)]
+    pub fn panic_for_tests(&self) {
+        panic!("a deliberate panic for the tests (Engine.__panicForTests)");
     }
-}
-
-/// Largest integer a JS number holds exactly.
-const MAX_SAFE_INTEGER: f64 = 9_007_199_254_740_991.0;
-
-fn seed_of(seed: &JsValue) -> Result<u64, JsValue> {
-    if seed.is_undefined() || seed.is_null() {
-        return Ok(0);
-    }
-    if let Some(n) = seed.as_f64() {
-        if n.is_finite() && n >= 0.0 && n.fract() == 0.0 && n <= MAX_SAFE_INTEGER {
-            return Ok(n as u64);
-        }
-        return Err(bad_request(&format!("seed must be a non-negative safe integer or a BigInt, got {n}")));
-    }
-    if seed.is_bigint() {
-        return u64::try_from(seed.clone()).map_err(|_| bad_request("a BigInt seed must be in 0 ..= 2^64 - 1"));
-    }
-    Err(bad_request("seed must be a number or a BigInt"))
 }

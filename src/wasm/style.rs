@@ -5,8 +5,8 @@ use std::rc::Rc;
 
 use wasm_bindgen::prelude::*;
 
-use super::content::Content;
 use super::error::stylize_error;
+use super::motion::ImportedMotion;
 use crate::Motion;
 use crate::stylize::{MAX_MIX_DEPTH, StyleSource, StylizeError, Weights};
 
@@ -37,7 +37,7 @@ impl StyleSpec {
 
     /// Motion-based: the style of `reference`; `label` is its style label (the supervised model
     /// needs it, the unsupervised one refuses it).
-    pub fn motion(reference: &Content, label: Option<String>) -> StyleSpec {
+    pub fn motion(reference: &ImportedMotion, label: Option<String>) -> StyleSpec {
         StyleSpec { node: Rc::new(Node::Motion { motion: Rc::clone(&reference.motion), label }), depth: 0 }
     }
 

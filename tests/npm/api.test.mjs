@@ -1,6 +1,6 @@
 // The package's JS API (pkg/index.js): loading, importing, every option, outputs, error codes.
 import assert from 'node:assert/strict';
-import { readFileSync } from 'node:fs';
+import { readFileSync, statSync } from 'node:fs';
 import { spawn } from 'node:child_process';
 import { join } from 'node:path';
 import { test } from 'node:test';
@@ -127,6 +127,143 @@ test('errors: stable codes', async () => {
   await rejects(() => Stylizer.load({ weights: { manifest: '{', norm: '{}' } }), 'BAD_WEIGHTS');
   await rejects(() => Stylizer.load({ weights: 'file:///nonexistent/' }), 'FETCH');
   await rejects(() => Stylizer.load({ backend: 'cuda' }), 'BACKEND_UNAVAILABLE');
+  await rejects(() => Stylizer.load({ weights: 42 }), 'BAD_WEIGHTS');
+  await rejects(() => Stylizer.load({ onProgress: 'yes' }), 'BAD_REQUEST');
+});
+
+/** The file's joint names (ROOT and JOINT lines) and its frame rows, as numbers. */
+function bvhFile(text) {
+  const names = [...text.matchAll(/^\s*(?:ROOT|JOINT)\s+(\S+)/gim)].map((m) => m[1]);
+  const motion = text.slice(text.search(/^MOTION\s*$/m)).split(/\r?\n/);
+  const frameTime = Number(/^Frame Time:\s*(\S+)/m.exec(text)[1]);
+  const rows = motion.slice(3).filter((l) => l.trim() !== '').map((l) => l.trim().split(/\s+/).map(Number));
+  return { names, frameTime, rows };
+}
+
+test('source(): the file as given, by the package forward kinematics, drawn at most at 60 fps', () => {
+  for (const [rel, step] of [['foreign/m21_walk.bvh', 1], ['foreign/cmu31_xia_neutral_16_000.bvh', 2], ['bandai/dataset-2_walk_normal_001_f120.bvh', 1]]) {
+    const text = read(fixture(rel));
+    const file = bvhFile(text);
+    const src = s.importBvh(text).source();
+    assert.deepEqual(src.names, file.names, rel);
+    assert.equal(src.parents.length, file.names.length);
+    assert.equal(src.parents[0], -1);
+    assert.ok(src.parents.every((p, i) => i === 0 || (p >= 0 && p < i)), rel);
+    assert.deepEqual(src.file, { frames: file.rows.length, fps: 1 / file.frameTime }, rel);
+    assert.equal(src.frames, Math.ceil(file.rows.length / step), rel);
+    assert.equal(src.fps, 1 / (file.frameTime * step), rel);
+    assert.ok(src.positions instanceof Float32Array);
+    assert.equal(src.positions.length, src.frames * file.names.length * 3);
+    assert.ok(src.positions.every(Number.isFinite));
+    // The root's position channels (the first three) are its world position in every kept frame.
+    for (let f = 0; f < src.frames; f++) {
+      const root = Array.from(src.positions.subarray(f * file.names.length * 3, f * file.names.length * 3 + 3));
+      assert.deepEqual(root, file.rows[f * step].slice(0, 3).map(Math.fround), `${rel} frame ${f}`);
+    }
+  }
+  // Keywords in any case, as the reader accepts them, draw the same motion.
+  const walk = read(fixture('foreign/m21_walk.bvh'));
+  const mixedCase = walk.replace('ROOT', 'root').replaceAll('End Site', 'END site').replaceAll('JOINT', 'Joint');
+  assert.notEqual(mixedCase, walk);
+  assert.deepEqual(s.importBvh(mixedCase).source(), s.importBvh(walk).source());
+});
+
+/** FNV-1a (32 bits, hex) of the bytes of `parts`: the fingerprint the demo's share links carry. */
+function fnv1a(...parts) {
+  let h = 0x811c9dc5;
+  for (const bytes of parts) for (const b of bytes) h = Math.imul(h ^ b, 0x01000193) >>> 0;
+  return h.toString(16).padStart(8, '0');
+}
+
+test('load: onProgress reports the weights bytes as they arrive, up to the total; weightsId', async () => {
+  const size = (f) => statSync(join(pkgDir, 'weights', f)).size;
+  const check = (calls, total, what) => {
+    assert.ok(calls.length >= 1, `${what}: no progress`);
+    for (let i = 1; i < calls.length; i++) assert.ok(calls[i].loaded > calls[i - 1].loaded, `${what}: not increasing at ${i}`);
+    assert.deepEqual(calls.at(-1), { loaded: total, total }, what);
+    assert.ok(calls.slice(0, -1).every((c) => c.total === total && c.loaded < total), `${what}: a total before the end`);
+  };
+  const both = size('norm.json') + size('supervised.bin') + size('unsupervised.bin');
+  const fromFiles = [];
+  const a = await Stylizer.load({ onProgress: (p) => fromFiles.push({ ...p }) });
+  check(fromFiles, both, 'files');
+  const one = [];
+  await Stylizer.load({ settings: ['supervised'], onProgress: (p) => one.push({ ...p }) });
+  check(one, size('norm.json') + size('supervised.bin'), 'one setting');
+  const server = await serve(pkgDir);
+  try {
+    const overHttp = [];
+    const b = await Stylizer.load({ weights: `${server.base}/weights/`, onProgress: (p) => overHttp.push({ ...p }) });
+    check(overHttp, both, 'HTTP');
+    assert.ok(overHttp.length > 10, `HTTP: ${overHttp.length} calls (the bodies are streamed)`);
+    assert.equal(b.weightsId, a.weightsId);
+  } finally {
+    server.close();
+  }
+  // Weights already in memory: nothing to report.
+  const none = [];
+  const w = (f) => readFileSync(join(pkgDir, 'weights', f));
+  const c = await Stylizer.load({ weights: { manifest: w('manifest.json'), norm: w('norm.json'), supervised: w('supervised.bin') }, onProgress: () => none.push(1) });
+  const d = await Stylizer.load({ weights: a, settings: ['unsupervised'], onProgress: () => none.push(1) });
+  assert.deepEqual(none, []);
+  // The weights' fingerprint: FNV-1a of the manifest's and the statistics' bytes, however loaded.
+  assert.equal(a.weightsId, fnv1a(w('manifest.json'), w('norm.json')));
+  assert.match(a.weightsId, /^[0-9a-f]{8}$/);
+  assert.equal(c.weightsId, a.weightsId);
+  assert.equal(d.weightsId, a.weightsId);
+  // Another Stylizer's weights, on the settings asked for: the same outputs.
+  assert.deepEqual(d.settings(), ['unsupervised']);
+  const opts = { prior: true, unsupervised: true, seed: 3 };
+  assert.equal((await d.stylize(walk, opts))[0].toBvh(), (await s.stylize(walk, opts))[0].toBvh());
+});
+
+test('free(): memory released now; a Motion or Stylizer used again is rebuilt, a StylizedMotion is gone', async () => {
+  const own = await Stylizer.load({ weights: s });
+  const content = own.importBvh(walk);
+  const [out] = await own.stylize(content, { label: 'old', seed: 2 });
+  const expected = out.toBvh();
+  out.free();
+  out.free();
+  await rejects(() => out.toBvh(), 'BAD_REQUEST');
+  content.free();
+  own.free();
+  assert.equal((await own.stylize(content, { label: 'old', seed: 2 }))[0].toBvh(), expected);
+  assert.equal(content.frames, 81);
+});
+
+test('a panic in the engine: INTERNAL with its message; the same Stylizer and Motions carry on, same bytes', async () => {
+  const own = await Stylizer.load();
+  const content = own.importBvh(walk);
+  const reference = own.importBvh(ref);
+  const modes = [{ styleMotion: reference, label: 'old', samples: 2, seed: 4 }, { label: 'proud', seed: 1 }, { prior: true, unsupervised: true }];
+  const stylizeAll = async (stylizer) => {
+    const out = [];
+    for (const m of modes) out.push(...(await stylizer.stylize(content, m)).map((o) => o.toBvh()));
+    return out;
+  };
+  const before = await stylizeAll(own);
+  const [result] = await own.stylize(content, { label: 'old' });
+  const other = await Stylizer.load({ settings: ['supervised'] });
+  assert.throws(
+    () => own.__panicForTests(),
+    (e) => {
+      assert.ok(e instanceof Error && !(e instanceof WebAssembly.RuntimeError), String(e));
+      assert.equal(e.code, 'INTERNAL');
+      assert.match(e.message, /a deliberate panic for the tests \(Engine.__panicForTests\)/);
+      assert.match(e.message, /src\/wasm\/engine\.rs:\d+:\d+/);
+      return true;
+    },
+  );
+  // A result of the trapped instance is gone; everything else runs on a fresh instance.
+  await rejects(() => result.toBvh(), 'INTERNAL');
+  assert.equal(content.frames, 81);
+  assert.equal(content.rig, 'm21');
+  assert.deepEqual(await stylizeAll(own), before);
+  assert.deepEqual(own.styles(), s.styles());
+  assert.equal((await other.stylize(walk, { label: 'old', seed: 5 }))[0].toBvh(), (await own.stylize(walk, { label: 'old', seed: 5 }))[0].toBvh());
+  // And again: a second panic is reported the same way.
+  assert.throws(() => own.__panicForTests(), { code: 'INTERNAL' });
+  assert.deepEqual(await stylizeAll(own), before);
 });
 
 test('webgpu: falls back to the CPU with the reason', async () => {

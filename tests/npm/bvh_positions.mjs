@@ -1,16 +1,20 @@
-// Joint positions of two BVH texts compared numerically, by the demo page's forward kinematics
-// (www/js/bvh-fk.js, the reader's conventions) in float64 and without dropping frames.
-import { bvhPositions } from '../../www/js/bvh-fk.js';
+// Joint positions of two BVH texts compared numerically, by the package's own forward kinematics
+// (Motion.source(): the file as given, every frame of it; float32).
 
-const positions = (text) => bvhPositions(text, Infinity, Float64Array).positions;
+/** Every frame's joint positions of `text` (imported with `stylizer`). */
+function positions(stylizer, text) {
+  const source = stylizer.importBvh(text).source();
+  if (source.frames !== source.file.frames) throw new Error(`source() dropped frames: ${source.frames} of ${source.file.frames}`);
+  return source.positions;
+}
 
 /**
  * Largest joint-position difference between two BVH texts of the same skeleton, relative to the
  * size of the motion (the largest extent of the second one's positions along any axis).
  */
-export function positionDifference(a, b) {
-  const x = positions(a);
-  const y = positions(b);
+export function positionDifference(stylizer, a, b) {
+  const x = positions(stylizer, a);
+  const y = positions(stylizer, b);
   if (x.length !== y.length) throw new Error(`position counts differ: ${x.length} vs ${y.length}`);
   let worst = 0;
   const lo = [Infinity, Infinity, Infinity];

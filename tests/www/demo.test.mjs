@@ -29,9 +29,10 @@ after(async () => {
   server?.close();
 });
 
-async function openPage(url = server.url, viewport = { width: 1366, height: 900 }) {
+async function openPage(url = server.url, viewport = { width: 1366, height: 900 }, init = null) {
   const context = await browser.newContext({ viewport, acceptDownloads: true });
   await context.grantPermissions(['clipboard-read', 'clipboard-write'], { origin: new URL(server.url).origin });
+  if (init) await context.addInitScript(init);
   const page = await context.newPage();
   page.on('console', (m) => m.type() === 'error' && problems.push(`console: ${m.text()}`));
   page.on('pageerror', (e) => problems.push(`pageerror: ${e.message}`));
@@ -63,8 +64,18 @@ function bvhShape(text) {
   return { frames, rows, joints: (text.match(/^\s*(ROOT|JOINT) /gm) ?? []).length };
 }
 
-test('loads, stylizes the default sample, and shows the first-stylization latency', async () => {
-  const page = await openPage();
+/** Records every text the status line shows (an init script: runs before the page's own). */
+function recordStatus() {
+  window.__statuses = [];
+  document.addEventListener('DOMContentLoaded', () => {
+    const line = document.getElementById('status');
+    const record = () => window.__statuses.push(line.textContent);
+    new MutationObserver(record).observe(line, { childList: true, characterData: true, subtree: true });
+  });
+}
+
+test('loads with download progress, stylizes the default sample, and shows the first-stylization latency', async () => {
+  const page = await openPage(server.url, undefined, recordStatus);
   const timings = await page.evaluate(() => window.__demo.timings);
   const load = timings.load;
   console.log(
@@ -74,6 +85,17 @@ test('loads, stylizes the default sample, and shows the first-stylization latenc
   assert.equal(await page.isVisible('#error'), false);
   assert.match(await page.textContent('#status'), /Stylized as “old”/);
   assert.equal((await page.$$('#label option')).length, 16);
+  // The download progress the package reports, up to the whole, then the engine starting.
+  const statuses = await page.evaluate(() => window.__statuses);
+  const downloads = statuses.map((t) => /^Downloading the model: ([\d.]+) of ([\d.]+) MB…$/.exec(t)).filter(Boolean);
+  assert.ok(downloads.length >= 2, statuses.join(' | '));
+  const [, last, total] = downloads.at(-1);
+  assert.equal(last, total);
+  assert.ok(Number(total) > 10, `${total} MB`);
+  assert.ok(statuses.indexOf('Starting the engine…') > statuses.indexOf(downloads.at(-1)[0]), statuses.join(' | '));
+  // The weights' fingerprint of share links: the package's, as Node computes it.
+  const { Stylizer } = await import(pathToFileURL(`${site}/pkg/index.js`));
+  assert.equal(timings.load.weightsId, (await Stylizer.load({ settings: ['supervised'] })).weightsId);
   await page.context().close();
 });
 

@@ -1,7 +1,7 @@
-// The page: wires the controls, the worker (engine.js), the views, playback, share links and files.
+// The page: wires the controls, the worker (worker-client.js), the views, playback, share links and files.
 
 import { fillSelect, readControls, requestOf, styleName, syncControls, usesReference, writeControls } from './controls.js';
-import { Engine } from './engine.js';
+import { WorkerClient } from './worker-client.js';
 import { Player } from './player.js';
 import { SAMPLES, fetchSample, sampleById } from './samples.js';
 import { MAX_LINK_CHARS, decodeState, encodeState, hasState } from './share.js';
@@ -13,7 +13,7 @@ const el = (id) => document.getElementById(id);
 const MAX_FILE_BYTES = 32 * 1024 * 1024;
 const DEFAULT = { content: 'walk-normal', ref: 'walk-elderly', label: 'old' };
 
-const engine = new Engine();
+const worker = new WorkerClient();
 const views = new Views({ front: el('view-front'), side: el('view-side'), top: el('view-top') });
 const thumbs = new Thumbs(el('thumbs-box'), el('thumbs'), (i) => pickResult(i));
 const player = new Player((time) => showTime(time));
@@ -101,7 +101,7 @@ async function loadMotion(slot, text, source, name) {
   status(`Reading ${name}…`);
   progress('busy');
   try {
-    const r = await engine.call('import', { slot, text });
+    const r = await worker.call('import', { slot, text });
     const motion = { source, name, rig: r.rig, report: r.report, file: r.display.file, display: toDisplay(r.display, r.report) };
     state[slot] = motion;
     showError(null);
@@ -198,7 +198,7 @@ async function stylize() {
   status(`Stylizing ${state.content.name}${n > 1 ? ` (${n} samples)` : ''}…`);
   const started = performance.now();
   try {
-    const { outputs, ms } = await engine.call('stylize', request);
+    const { outputs, ms } = await worker.call('stylize', request);
     const report = state.content.report;
     const turn = state.content.display.turn;
     state.results = outputs.map((o) => ({ bvh: o.bvh, display: toDisplay(o, report, turn) }));
@@ -259,7 +259,7 @@ el('download').addEventListener('click', async () => {
   progress('busy');
   status('Writing the canonical-rig BVH…');
   try {
-    const { outputs } = await engine.call('stylize', { ...made.request, rig: 'canonical', only: state.pick });
+    const { outputs } = await worker.call('stylize', { ...made.request, rig: 'canonical', only: state.pick });
     saveText(outputs[0].bvh, `${base}.canonical.bvh`);
     status('Downloaded.');
   } catch (e) {
@@ -354,7 +354,7 @@ async function loadEngine(backend) {
   setBusy(1);
   const t0 = performance.now();
   try {
-    const info = await engine.call('load', { backend }, (p) => {
+    const info = await worker.call('load', { backend }, (p) => {
       if (p.stage === 'weights' && p.total) {
         status(`Downloading the model: ${(p.loaded / 1048576).toFixed(1)} of ${(p.total / 1048576).toFixed(1)} MB…`);
         progress(p.loaded / p.total);

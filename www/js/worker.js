@@ -1,72 +1,13 @@
 // The Web Worker that runs the model: loads the package (wasm + weights, with download progress),
 // imports BVH files into named slots ('content', 'ref'), and stylizes. The page talks to it through
-// engine.js; every request is answered in order with {id, result} or {id, error: {code, message}}.
+// worker-client.js; every request is answered in order with {id, result} or {id, error: {code, message}}.
 
 import { Stylizer } from '../pkg/index.js';
-import { bvhPositions } from './bvh-fk.js';
 
-const WEIGHTS = new URL('../pkg/weights/', import.meta.url);
 let stylizer = null;
-let weights = null;
 const slots = new Map();
 
 const coded = (code, message) => Object.assign(new Error(message), { code });
-
-/** Bytes of a URL, reporting progress as {loaded} deltas. */
-async function fetchBytes(url, onBytes) {
-  let response;
-  try {
-    response = await fetch(url);
-  } catch (e) {
-    throw coded('FETCH', `cannot fetch ${url.pathname}: ${e.message}`);
-  }
-  if (!response.ok) throw coded('FETCH', `cannot fetch ${url.pathname}: HTTP ${response.status}`);
-  const reader = response.body.getReader();
-  const chunks = [];
-  let size = 0;
-  for (;;) {
-    const { done, value } = await reader.read();
-    if (done) break;
-    chunks.push(value);
-    size += value.length;
-    onBytes(value.length);
-  }
-  const bytes = new Uint8Array(size);
-  let at = 0;
-  for (const c of chunks) {
-    bytes.set(c, at);
-    at += c.length;
-  }
-  return bytes;
-}
-
-/** The package's weight files, fetched here so that the page can show download progress. */
-async function fetchWeights(progress) {
-  const manifestBytes = await fetchBytes(new URL('manifest.json', WEIGHTS), () => {});
-  const manifest = JSON.parse(new TextDecoder().decode(manifestBytes));
-  const files = [['norm', manifest.norm], ...manifest.models.map((m) => [m.setting, m.file])];
-  const sizes = await Promise.all(
-    files.map(async ([, file]) => {
-      const r = await fetch(new URL(file, WEIGHTS), { method: 'HEAD' }).catch(() => null);
-      return Number(r?.headers.get('content-length') ?? 0);
-    }),
-  );
-  const total = sizes.reduce((a, b) => a + b, 0);
-  let loaded = 0;
-  const bytes = await Promise.all(
-    files.map(([, file]) =>
-      fetchBytes(new URL(file, WEIGHTS), (n) => {
-        loaded += n;
-        progress({ stage: 'weights', loaded, total });
-      }),
-    ),
-  );
-  const out = { manifest: manifestBytes };
-  files.forEach(([key], i) => {
-    out[key] = bytes[i];
-  });
-  return out;
-}
 
 function styleOf(src) {
   switch (src?.kind) {
@@ -86,29 +27,31 @@ function styleOf(src) {
   }
 }
 
-/** A short fingerprint of the weights (FNV-1a of the manifest and statistics): share links carry it. */
-function fingerprint(...parts) {
-  let h = 0x811c9dc5;
-  for (const bytes of parts) for (const b of bytes) h = Math.imul(h ^ b, 0x01000193) >>> 0;
-  return h.toString(16).padStart(8, '0');
-}
-
 const ops = {
   async load({ backend }, progress) {
     const t0 = performance.now();
-    weights ??= await fetchWeights(progress);
-    const fetchMs = performance.now() - t0;
-    progress({ stage: 'compile' });
-    stylizer?.engine?.free?.();
+    let fetchMs = 0;
+    // The package fetches the weights (with progress); a reload (another backend) reuses the
+    // bytes the previous Stylizer keeps.
+    const previous = stylizer;
     stylizer = null;
-    stylizer = await Stylizer.load({ weights, backend });
+    previous?.free();
+    if (previous) progress({ stage: 'compile' });
+    const onProgress = ({ loaded, total }) => {
+      progress({ stage: 'weights', loaded, total });
+      if (loaded === total) {
+        fetchMs = performance.now() - t0;
+        progress({ stage: 'compile' });
+      }
+    };
+    stylizer = await Stylizer.load({ weights: previous ?? undefined, backend, onProgress });
     return {
       styles: stylizer.styles(),
       settings: stylizer.settings(),
       backend: stylizer.backend,
       fallbackReason: stylizer.fallbackReason,
-      loadMs: stylizer.loadMs,
-      weightsId: fingerprint(weights.manifest, weights.norm),
+      loadMs: stylizer.loadMs - fetchMs, // after the download (the wasm starts during it): loading the weights
+      weightsId: stylizer.weightsId,
       fetchMs,
       totalMs: performance.now() - t0,
     };
@@ -119,9 +62,9 @@ const ops = {
     const motion = stylizer.importBvh(text);
     const old = slots.get(slot);
     slots.set(slot, motion);
-    old?.content?.free?.();
+    old?.free();
     const report = motion.rigReport();
-    const display = bvhPositions(text);
+    const display = motion.source();
     // The user's joints matched to the canonical hips and upper arms: the views face the character's front.
     const user = Object.fromEntries(report.matched ?? []);
     const index = (canonical) => display.names.indexOf(user[canonical]);
@@ -154,7 +97,7 @@ const ops = {
       frames: o.frames,
       fps: o.fps,
     }));
-    for (const o of outputs) o.output?.free?.();
+    for (const o of outputs) o.free();
     return { result: { outputs: result, ms }, transfer: result.filter((o) => o.positions).map((o) => o.positions.buffer) };
   },
 };

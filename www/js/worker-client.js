@@ -1,6 +1,6 @@
 // The page's side of the worker (worker.js): requests as promises, progress as callbacks.
 
-export class Engine {
+export class WorkerClient {
   constructor() {
     this.worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
     this.pending = new Map();

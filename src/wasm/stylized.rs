@@ -1,24 +1,25 @@
-//! [`Output`]: one stylized motion as a BVH on the rig it was asked for, with what a viewer needs
-//! to draw it (joint positions, names, parents).
+//! [`StylizedMotion`]: one stylized motion as a BVH on the rig it was asked for, with what a viewer
+//! needs to draw it (joint positions, names, parents).
 
 use wasm_bindgen::prelude::*;
 
+use super::drawing;
 use crate::bvh::Bvh;
 
 /// A motion on the canonical rig or the content's own rig.
 #[wasm_bindgen]
-pub struct Output {
+pub struct StylizedMotion {
     bvh: Bvh,
 }
 
-impl Output {
-    pub(super) fn new(bvh: Bvh) -> Output {
-        Output { bvh }
+impl StylizedMotion {
+    pub(super) fn new(bvh: Bvh) -> StylizedMotion {
+        StylizedMotion { bvh }
     }
 }
 
 #[wasm_bindgen]
-impl Output {
+impl StylizedMotion {
     /// The BVH text (the same bytes the native CLI writes).
     #[wasm_bindgen(js_name = toBvh)]
     pub fn to_bvh(&self) -> String {
@@ -28,12 +29,7 @@ impl Output {
     /// World joint positions, `frames × joints × 3` (x, y, z in the rig's units and axes), by
     /// forward kinematics of the BVH.
     pub fn positions(&self) -> Vec<f32> {
-        let mut out = Vec::with_capacity(self.bvh.frames * self.bvh.joints.len() * 3);
-        for f in 0..self.bvh.frames {
-            let (positions, _) = self.bvh.global_pose(f);
-            out.extend(positions.iter().flat_map(|p| [p.x as f32, p.y as f32, p.z as f32]));
-        }
-        out
+        drawing::positions(&self.bvh, 1)
     }
 
     #[wasm_bindgen(getter)]
@@ -46,14 +42,14 @@ impl Output {
         self.bvh.fps()
     }
 
-    /// Joint names, in the order of [`Output::positions`].
+    /// Joint names, in the order of [`StylizedMotion::positions`].
     #[wasm_bindgen(js_name = jointNames)]
     pub fn joint_names(&self) -> Vec<String> {
-        self.bvh.joints.iter().map(|j| j.name.clone()).collect()
+        drawing::joint_names(&self.bvh)
     }
 
     /// Each joint's parent index, −1 for the root.
     pub fn parents(&self) -> Vec<i32> {
-        self.bvh.joints.iter().map(|j| j.parent.map_or(-1, |p| p as i32)).collect()
+        drawing::parents(&self.bvh)
     }
 }
