@@ -98,6 +98,28 @@ fn heldout_rows_have_every_metric_where_it_applies_and_null_where_not() {
     // The contents' own takes are never their references: identity is judged against other styles.
     let real = row(&v, "real")["style_acc"].as_f64().unwrap();
     assert!((0.0..=1.0).contains(&real));
+
+    // Style shift: the only content with a `normal` take and another style's is set 2's walk
+    // (elderly = old), so `old` has a direction from one content and one take; the others none.
+    let dirs = v["directions"]["styles"].as_array().unwrap();
+    assert_eq!(dirs.len(), 1, "{dirs:?}");
+    assert_eq!(dirs[0]["style"], "old");
+    assert_eq!((dirs[0]["contents"].as_u64(), dirs[0]["takes"].as_u64()), (Some(1), Some(1)));
+    assert!(dirs[0]["length"].as_f64().unwrap() > 0.3 && dirs[0]["scored"] == true);
+    assert_eq!(v["directions"]["spread"].as_array().unwrap().len(), 12);
+    // Per-label rows: every targeted label of every row with a target; the identity's shift is 0
+    // and only `old` has one.
+    let labels = v["labels"].as_array().unwrap();
+    assert!(labels.iter().all(|l| l["setting"] != "real" && l["setting"] != "unsup_prior"));
+    for l in labels {
+        let shift = &l["style_shift"];
+        assert_eq!(shift.is_f64(), l["style"] == "old", "{l}");
+        if l["setting"] == "identity" && shift.is_f64() {
+            assert_eq!(shift.as_f64(), Some(0.0));
+        }
+        assert!(l["outputs"].as_u64().unwrap() >= 1 && l["style_acc"].is_f64());
+    }
+    assert!(row(&v, "real")["style_shift"].is_null() && row(&v, "unsup_prior")["style_shift"].is_null());
     let _ = std::fs::remove_dir_all(dir);
 }
 

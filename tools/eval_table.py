@@ -15,6 +15,7 @@ HEADERS = {
     "diversity_cm": "diversity (cm)",
     "foot_skate": "foot skating (cm/s) ↓",
     "foot_skate_ref": "… of the references (cm/s)",
+    "style_shift": "style shift ↑",
 }
 
 
@@ -22,7 +23,7 @@ def cell(row, name):
     value = row.get(name)
     if value is None:
         return "—"
-    digits = 2 if name.endswith("_cm") or name.startswith("foot_skate") else 3
+    digits = 2 if name.endswith("_cm") or name.startswith("foot_skate") or name == "style_shift" else 3
     ci = row.get(f"{name}_ci")
     return f"{value:.{digits}f}" + ("" if ci is None else f" ± {ci:.{digits}f}")
 

@@ -5,10 +5,12 @@ use anyhow::Context;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use motion_stylizer::dataset::Split;
+use motion_stylizer::dataset::Style;
 use motion_stylizer::eval::classify::Judge;
 use motion_stylizer::eval::protocol::{self, Inputs};
 use motion_stylizer::eval::report::{self, Provenance};
-use motion_stylizer::eval::{load_contents, load_heldout};
+use motion_stylizer::eval::shift::Directions;
+use motion_stylizer::eval::{load_contents, load_heldout, load_takes};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -88,24 +90,32 @@ pub fn run(args: &EvalArgs) -> anyhow::Result<()> {
         let n = contents.len();
         contents = (0..args.limit).map(|i| contents[i * n / args.limit].clone()).collect();
     }
-    eprintln!(
-        "{} contents, {} held-out takes, {} repeats",
-        contents.len(),
-        heldout.len(),
-        args.repeats
-    );
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let takes = load_takes(&args.data, threads)?;
+    let normal = Style::from_name("normal").map(|s| s.index()).context("no `normal` style label")?;
+    let directions = Directions::from_takes(&takes, normal);
+    eprintln!("style directions from {} takes", takes.len());
+    eprintln!("{} contents, {} held-out takes, {} repeats", contents.len(), heldout.len(), args.repeats);
 
     let bar = ProgressBar::with_draw_target(Some((contents.len() * args.repeats) as u64), ProgressDrawTarget::stderr());
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} contents | {per_sec} | ETA {eta}")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
-    let inputs =
-        Inputs { weights: &weights, judge: &judge, heldout: &heldout, contents: &contents, repeats: args.repeats, seed: args.seed };
-    let rows = protocol::evaluate(&inputs, &mut |done, _| bar.set_position(done as u64))?;
+    let inputs = Inputs {
+        weights: &weights,
+        judge: &judge,
+        heldout: &heldout,
+        contents: &contents,
+        repeats: args.repeats,
+        seed: args.seed,
+        directions: Some(&directions),
+    };
+    let evaluation = protocol::evaluate(&inputs, &mut |done, _| bar.set_position(done as u64))?;
     bar.finish_and_clear();
 
-    println!("{}", report::to_table(&rows));
+    println!("{}", report::to_table(&evaluation.rows));
+    println!("{}", report::labels_table(&evaluation, Some(&directions), weights.styles()));
     let provenance = Provenance {
         command: std::env::args().collect::<Vec<_>>().join(" "),
         weights: shown(&weights_dir),
@@ -118,7 +128,12 @@ pub fn run(args: &EvalArgs) -> anyhow::Result<()> {
         seconds: t0.elapsed().as_secs_f64(),
     };
     if let Some(path) = &args.json {
-        let json = serde_json::to_string_pretty(&report::to_json(&rows, &provenance))?;
+        let json = serde_json::to_string_pretty(&report::to_json(
+            &evaluation,
+            Some(&directions),
+            weights.styles(),
+            &provenance,
+        ))?;
         super::write_text(path, &(json + "\n"))?;
         eprintln!("results -> {}", path.display());
     }

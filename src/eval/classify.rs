@@ -62,7 +62,10 @@ impl Judge {
     pub fn judge_normalized(&self, f: &Features) -> Judgement {
         let len = f.frames().div_ceil(CLASSIFIER_MULTIPLE).max(1) * CLASSIFIER_MULTIPLE;
         let padded = pad_features(f, len);
-        let x = Tensor::<3>::from_data(TensorData::new(padded.view_channels_first(View::Full), [1, DIM, len]), &self.device);
+        let x = Tensor::<3>::from_data(
+            TensorData::new(padded.view_channels_first(View::Full), [1, DIM, len]),
+            &self.device,
+        );
         let out = self.net.forward(ae_input(x));
         let feature = out.feature.into_data().try_to_vec::<f32>().unwrap_or_default();
         let logits = out.logits.into_data().try_to_vec::<f32>().unwrap_or_default();

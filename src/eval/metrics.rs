@@ -57,10 +57,7 @@ pub fn foot_skate_parts(m: &Motion) -> (f64, usize) {
 
 /// Mean horizontal foot speed during contact, cm/s, pooled over `motions`. `None` without contact.
 pub fn foot_skate<'a>(motions: impl IntoIterator<Item = &'a Motion>) -> Option<f64> {
-    let (sum, count) = motions
-        .into_iter()
-        .map(foot_skate_parts)
-        .fold((0.0, 0), |(s, c), (s1, c1)| (s + s1, c + c1));
+    let (sum, count) = motions.into_iter().map(foot_skate_parts).fold((0.0, 0), |(s, c), (s1, c1)| (s + s1, c + c1));
     (count > 0).then(|| sum / count as f64)
 }
 

@@ -4,12 +4,14 @@
 //! - [`classify`]: the style classifier (trained by `train classifier`) applied to motions;
 //! - [`metrics`]: geodesic distance, foot skating, FID, confidence intervals;
 //! - [`protocol`]: contents, targets, references and the rows of the table;
-//! - [`report`]: the table and the JSON.
+//! - [`report`]: the table and the JSON;
+//! - [`shift`]: style shift, the classifier-free measure on kinematic descriptors.
 
 pub mod classify;
 pub mod metrics;
 pub mod protocol;
 pub mod report;
+pub mod shift;
 
 use std::path::{Path, PathBuf};
 
@@ -19,6 +21,7 @@ use crate::dataset::Split;
 use crate::dataset::corpus::list_takes;
 use crate::skeleton;
 use protocol::Labelled;
+use shift::{Take, descriptors};
 
 /// The held-out takes of `split` under `data`, imported, with their unified style labels.
 pub fn load_heldout(data: &Path, split: &Split) -> anyhow::Result<Vec<Labelled>> {
@@ -58,4 +61,40 @@ pub fn load_contents(dir: &Path) -> anyhow::Result<(Vec<Labelled>, Vec<(PathBuf,
     }
     ensure!(!ok.is_empty(), "no importable .bvh file in {}", dir.display());
     Ok((ok, failed))
+}
+
+/// Every take under `data` (both sets, training and held-out) as a [`Take`] for the style
+/// directions: its content key, unified style and descriptors. Takes that cannot be imported are
+/// skipped with a warning (none are expected). Imported on `threads` threads.
+pub fn load_takes(data: &Path, threads: usize) -> anyhow::Result<Vec<Take>> {
+    let takes = list_takes(data).with_context(|| format!("cannot list the takes in {}", data.display()))?;
+    let chunk = takes.len().div_ceil(threads.max(1)).max(1);
+    let parts: Vec<Vec<Take>> = std::thread::scope(|scope| {
+        let handles: Vec<_> = takes
+            .chunks(chunk)
+            .map(|part| {
+                scope.spawn(move || {
+                    let mut out = Vec::with_capacity(part.len());
+                    for (take, path) in part {
+                        let imported = std::fs::read_to_string(path)
+                            .map_err(|e| e.to_string())
+                            .and_then(|text| skeleton::import_bvh(&text).map_err(|e| e.to_string()));
+                        match imported {
+                            Ok(i) => out.push(Take {
+                                content: take.content_key(),
+                                style: take.style().index(),
+                                descriptors: descriptors(&i.motion),
+                            }),
+                            Err(e) => eprintln!("warning: skipped {}: {e}", path.display()),
+                        }
+                    }
+                    out
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap_or_default()).collect()
+    });
+    let out: Vec<Take> = parts.into_iter().flatten().collect();
+    ensure!(!out.is_empty(), "no takes found under {}", data.display());
+    Ok(out)
 }

@@ -17,11 +17,15 @@
 //! (classifier features of the outputs against those of the references), `geodesic` (to the
 //! content), `diversity` (distance between two samples of the same input, in the classifier's
 //! feature space; `diversity_cm`: mean joint distance, cm), `foot_skate` (cm/s; `foot_skate_ref`:
-//! the same for the row's real references, i.e. real motions of the target styles). Motion-based
+//! the same for the row's real references, i.e. real motions of the target styles), `style_shift`
+//! (classifier-free: how far the output moved from its content along the target style's
+//! direction on kinematic descriptors, [`super::shift`]; only where the target style is scored;
+//! the identity row's is 0 by definition). Motion-based
 //! outputs are the posterior mean (what the CLI gives by default); their diversity is measured on
 //! two extra draws from the posterior. Label- and prior-based outputs are the first of two
 //! samples; diversity is between the two. Each value is the mean over repeats with its 95 %
-//! confidence half-width.
+//! confidence half-width. Per target label ([`LabelRow`]), pooled over repeats: style accuracy and
+//! style shift of every row that has a target.
 
 use rand_chacha::ChaCha8Rng;
 use rand_chacha::rand_core::{RngCore, SeedableRng};
@@ -29,9 +33,11 @@ use serde::Serialize;
 
 use super::classify::{Judge, Judgement};
 use super::metrics::{feature_distance, fid, foot_skate_parts, geodesic, mean_ci, position_distance};
+use super::shift::{Directions, descriptors};
 use crate::Motion;
 use crate::dataset::Style;
 use crate::stylize::{self, Request, Setting, StyleSource, StylizeError, Weights};
+use std::collections::BTreeMap;
 
 /// One motion of the evaluation with its style label, if known.
 #[derive(Clone, Debug)]
@@ -45,8 +51,8 @@ pub struct Labelled {
 pub const ROWS: [&str; 6] = ["real", "identity", "sup_motion", "sup_label", "unsup_motion", "unsup_prior"];
 
 /// The metrics (columns) in table order.
-pub const COLUMNS: [&str; 7] =
-    ["style_acc", "style_fid", "geodesic", "diversity", "diversity_cm", "foot_skate", "foot_skate_ref"];
+pub const COLUMNS: [&str; 8] =
+    ["style_acc", "style_fid", "geodesic", "diversity", "diversity_cm", "foot_skate", "foot_skate_ref", "style_shift"];
 
 /// Inputs of an evaluation.
 pub struct Inputs<'a> {
@@ -58,6 +64,8 @@ pub struct Inputs<'a> {
     pub contents: &'a [Labelled],
     pub repeats: usize,
     pub seed: u64,
+    /// The styles' directions for `style_shift` (`None`: not measured).
+    pub directions: Option<&'a Directions>,
 }
 
 /// One row of the result: per metric, the mean over repeats and the 95 % half-width (`None`:
@@ -67,6 +75,28 @@ pub struct Row {
     pub setting: &'static str,
     pub values: Vec<(&'static str, Option<f64>, Option<f64>)>,
 }
+
+/// One row's results for one target label, pooled over repeats and contents.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct LabelRow {
+    pub setting: &'static str,
+    pub style: usize,
+    /// Outputs with this target.
+    pub outputs: usize,
+    pub style_acc: Option<f64>,
+    /// Mean shift of the outputs (`None`: the style is not scored).
+    pub style_shift: Option<f64>,
+}
+
+/// What [`evaluate`] gives: the table's rows and the per-label breakdown.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Evaluation {
+    pub rows: Vec<Row>,
+    pub labels: Vec<LabelRow>,
+}
+
+/// Per target label: (correct, judged, shifts).
+type LabelTally = BTreeMap<usize, (usize, usize, Vec<f64>)>;
 
 impl Row {
     pub fn get(&self, metric: &str) -> Option<f64> {
@@ -88,6 +118,7 @@ struct Tally {
     skate: (f64, usize),
     /// The same for the real motions the outputs are compared with (references of the target style).
     reference_skate: (f64, usize),
+    shift: Vec<f64>,
 }
 
 fn pool(into: &mut (f64, usize), (sum, count): (f64, usize)) {
@@ -119,6 +150,7 @@ impl Tally {
             mean(&self.diversity_cm),
             pooled_mean(self.skate),
             pooled_mean(self.reference_skate),
+            mean(&self.shift),
         ]
     }
 }
@@ -131,7 +163,7 @@ fn below(rng: &mut ChaCha8Rng, n: usize) -> usize {
 }
 
 /// Runs the evaluation (see the module docs).
-pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Vec<Row>, StylizeError> {
+pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Evaluation, StylizeError> {
     let judged_heldout: Vec<Judgement> = inputs.heldout.iter().map(|h| inputs.judge.judge(&h.motion)).collect();
     let heldout_skate: Vec<(f64, usize)> = inputs.heldout.iter().map(|h| foot_skate_parts(&h.motion)).collect();
     let n_styles = inputs.judge.num_styles();
@@ -145,6 +177,9 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Vec<
     let total = inputs.repeats * inputs.contents.len();
     let mut per_row: Vec<Vec<[Option<f64>; COLUMNS.len()]>> = vec![Vec::new(); ROWS.len()];
     let mut done = 0;
+    let mut labels: Vec<LabelTally> = vec![BTreeMap::new(); ROWS.len()];
+    let content_descriptors: Vec<_> =
+        inputs.contents.iter().map(|c| inputs.directions.map(|_| descriptors(&c.motion))).collect();
     for r in 0..inputs.repeats {
         let mut rng = ChaCha8Rng::seed_from_u64(inputs.seed ^ (r as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
         let mut tallies: Vec<Tally> = vec![Tally::default(); ROWS.len()];
@@ -160,7 +195,7 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Vec<
             pool(&mut tallies[0].reference_skate, heldout_skate[pick]);
         }
 
-        for content in inputs.contents {
+        for (content, content_d) in inputs.contents.iter().zip(&content_descriptors) {
             let candidates: Vec<usize> = styles.iter().copied().filter(|s| Some(*s) != content.style).collect();
             if candidates.is_empty() {
                 continue;
@@ -173,8 +208,20 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Vec<
             let label = Style(target as u8);
             let reference_skate = heldout_skate[ref_index];
 
+            let shift_of = |output: &Motion| -> Option<f64> {
+                let (dirs, content_d) = (inputs.directions?, content_d.as_ref()?);
+                dirs.shift(target, content_d, &descriptors(output))
+            };
             // identity
-            tallies[1].judge(inputs.judge.judge(&content.motion), Some(target), &ref_feature);
+            let judged = inputs.judge.judge(&content.motion);
+            let entry = labels[1].entry(target).or_default();
+            entry.0 += usize::from(judged.predicted == target);
+            entry.1 += 1;
+            if let Some(s) = shift_of(&content.motion) {
+                tallies[1].shift.push(s);
+                entry.2.push(s);
+            }
+            tallies[1].judge(judged, Some(target), &ref_feature);
             tallies[1].geodesic.push(0.0);
             pool(&mut tallies[1].skate, foot_skate_parts(&content.motion));
             pool(&mut tallies[1].reference_skate, reference_skate);
@@ -199,8 +246,18 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Vec<
                     (samples[0].clone(), samples)
                 };
                 let t = &mut tallies[row];
+                let judged = inputs.judge.judge(&output);
+                if row != 5 {
+                    let entry = labels[row].entry(target).or_default();
+                    entry.0 += usize::from(judged.predicted == target);
+                    entry.1 += 1;
+                    if let Some(s) = shift_of(&output) {
+                        t.shift.push(s);
+                        entry.2.push(s);
+                    }
+                }
                 let target = (row != 5).then_some(target);
-                t.judge(inputs.judge.judge(&output), target, &ref_feature);
+                t.judge(judged, target, &ref_feature);
                 if let Some(g) = geodesic(&content.motion, &output) {
                     t.geodesic.push(g);
                 }
@@ -220,7 +277,20 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Vec<
         }
     }
 
-    Ok(ROWS
+    let label_rows = labels
+        .iter()
+        .enumerate()
+        .flat_map(|(row, by_label)| {
+            by_label.iter().map(move |(&style, (correct, judged, shifts))| LabelRow {
+                setting: ROWS[row],
+                style,
+                outputs: *judged,
+                style_acc: (*judged > 0).then(|| *correct as f64 / *judged as f64),
+                style_shift: (!shifts.is_empty()).then(|| shifts.iter().sum::<f64>() / shifts.len() as f64),
+            })
+        })
+        .collect();
+    let rows = ROWS
         .iter()
         .enumerate()
         .map(|(row, &setting)| {
@@ -231,7 +301,8 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Vec<
                     let v: Vec<f64> = per_row[row].iter().filter_map(|m| m[c]).collect();
                     // A metric counts only if every repeat measured it.
                     let stats = (v.len() == per_row[row].len()).then(|| mean_ci(&v)).flatten();
-                    let not_applicable = (row <= 1 && name.starts_with("diversity")) || (row == 5 && name == "style_acc");
+                    let not_applicable =
+                        (row <= 1 && name.starts_with("diversity")) || (row == 5 && name == "style_acc");
                     match stats {
                         Some((m, ci)) if !not_applicable => (name, Some(m), ci),
                         _ => (name, None, None),
@@ -240,5 +311,6 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Vec<
                 .collect();
             Row { setting, values }
         })
-        .collect())
+        .collect();
+    Ok(Evaluation { rows, labels: label_rows })
 }

@@ -1,9 +1,11 @@
-//! The evaluation's outputs: a plain-text table and JSON (`{"rows": [{"setting": …,
-//! "style_acc": 0.93, "style_acc_ci": 0.01, …}, …]}`, null where a metric does not apply).
+//! The evaluation's outputs: plain-text tables and JSON (`{"rows": [{"setting": …,
+//! "style_acc": 0.93, "style_acc_ci": 0.01, …}, …], "labels": [{"setting", "style", "outputs",
+//! "style_acc", "style_shift"}, …], "directions": …}`, null where a metric does not apply).
 
 use serde_json::{Map, Value, json};
 
-use super::protocol::{COLUMNS, Row};
+use super::protocol::{COLUMNS, Evaluation, Row};
+use super::shift::{DESCRIPTORS, Directions};
 
 /// What was evaluated, recorded beside the rows.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -20,9 +22,15 @@ pub struct Provenance {
     pub seconds: f64,
 }
 
-/// The JSON document.
-pub fn to_json(rows: &[Row], provenance: &Provenance) -> Value {
-    let rows: Vec<Value> = rows
+/// The JSON document; `styles`: the label names, by index.
+pub fn to_json(
+    eval: &Evaluation,
+    directions: Option<&Directions>,
+    styles: &[String],
+    provenance: &Provenance,
+) -> Value {
+    let rows: Vec<Value> = eval
+        .rows
         .iter()
         .map(|row| {
             let mut m = Map::new();
@@ -34,7 +42,60 @@ pub fn to_json(rows: &[Row], provenance: &Provenance) -> Value {
             Value::Object(m)
         })
         .collect();
-    json!({ "rows": rows, "provenance": provenance })
+    let name = |i: usize| styles.get(i).cloned().unwrap_or_else(|| i.to_string());
+    let labels: Vec<Value> = eval
+        .labels
+        .iter()
+        .map(|l| {
+            json!({"setting": l.setting, "style": name(l.style), "outputs": l.outputs,
+                   "style_acc": l.style_acc, "style_shift": l.style_shift})
+        })
+        .collect();
+    let directions = directions.map(|d| {
+        let styles: Vec<Value> = d
+            .styles
+            .iter()
+            .map(|s| {
+                json!({"style": name(s.style), "contents": s.contents, "takes": s.takes, "length": s.length,
+                       "scored": s.scored, "vector": s.vector})
+            })
+            .collect();
+        json!({"descriptors": DESCRIPTORS, "spread": d.spread, "styles": styles})
+    });
+    json!({ "rows": rows, "labels": labels, "directions": directions, "provenance": provenance })
+}
+
+/// Per target label: each row's style accuracy and style shift (`—`: not measured or the style is
+/// not scored), and the direction's length in spreads.
+pub fn labels_table(eval: &Evaluation, directions: Option<&Directions>, styles: &[String]) -> String {
+    let settings: Vec<&str> = {
+        let mut v: Vec<&str> = eval.labels.iter().map(|l| l.setting).collect();
+        v.dedup();
+        v
+    };
+    let mut out = String::from("| label | direction |");
+    for s in &settings {
+        out.push_str(&format!(" {s} acc | {s} shift |"));
+    }
+    out.push_str(&format!("\n|---|---|{}\n", "---|---|".repeat(settings.len())));
+    let mut label_ids: Vec<usize> = eval.labels.iter().map(|l| l.style).collect();
+    label_ids.sort_unstable();
+    label_ids.dedup();
+    for style in label_ids {
+        let name = styles.get(style).map_or("?", String::as_str);
+        let dir = directions
+            .and_then(|d| d.get(style))
+            .map_or("—".into(), |d| format!("{:.2}{}", d.length, if d.scored { "" } else { " (not scored)" }));
+        out.push_str(&format!("| {name} | {dir} |"));
+        for s in &settings {
+            let l = eval.labels.iter().find(|l| l.setting == *s && l.style == style);
+            let acc = cell(l.and_then(|l| l.style_acc), None, 3);
+            let shift = cell(l.and_then(|l| l.style_shift), None, 2);
+            out.push_str(&format!(" {acc} | {shift} |"));
+        }
+        out.push('\n');
+    }
+    out
 }
 
 fn cell(value: Option<f64>, ci: Option<f64>, digits: usize) -> String {
@@ -54,7 +115,14 @@ pub fn to_table(rows: &[Row]) -> String {
         let cells: Vec<String> = row
             .values
             .iter()
-            .map(|(name, v, ci)| cell(*v, *ci, if name.ends_with("_cm") || name.starts_with("foot_skate") { 2 } else { 3 }))
+            .map(|(name, v, ci)| {
+                let digits = if name.ends_with("_cm") || name.starts_with("foot_skate") || *name == "style_shift" {
+                    2
+                } else {
+                    3
+                };
+                cell(*v, *ci, digits)
+            })
             .collect();
         out.push_str(&format!("| {} | {} |\n", row.setting, cells.join(" | ")));
     }
