@@ -209,8 +209,8 @@ impl Directions {
             }
             for (style, (sum, n)) in per_style {
                 let e = sums.entry(style).or_insert_with(|| (vec![0.0; N], 0, 0));
-                for k in 0..N {
-                    e.0[k] += sum[k] / n as f64;
+                for (acc, v) in e.0.iter_mut().zip(&sum) {
+                    *acc += v / n as f64;
                 }
                 e.1 += 1;
                 e.2 += n;
