@@ -128,10 +128,6 @@ fn errors_are_clear_and_exit_non_zero() {
     let err = fails(&with(&["--label", "old", "--unsupervised"]));
     assert!(err.contains("needs the supervised model"), "{err}");
 
-    let reference = fixture("foreign", "m21_walk");
-    let err = fails(&with(&["--style-motion", &reference]));
-    assert!(err.contains("style label of the reference"), "{err}");
-
     let err = fails(&with(&[]));
     assert!(err.contains("--style-motion") && err.contains("--prior"), "{err}");
 
@@ -155,4 +151,25 @@ fn styles_lists_the_labels() {
     assert_eq!(labels, motion_stylizer::dataset::STYLES);
     let err = fails(&["styles", "--weights", s(&weights_dir().join("nope"))]);
     assert!(err.contains("no trained weights"), "{err}");
+}
+
+/// Supervised motion-based without --label: the reference's label is inferred (with the shipped
+/// weights: the Bandai fixtures' own labels) and named on stderr; the output equals the one with
+/// that label given.
+#[test]
+fn supervised_motion_based_infers_the_reference_label() {
+    let dir = out_dir("cli-infer");
+    let shipped = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/weights");
+    let content = fixture("foreign", "m21_walk");
+    for (reference, label) in [("dataset-2_walk_elderly_001_f120", "old"), ("dataset-1_walk_tired_001_f90", "tired")] {
+        let reference = fixture("bandai", reference);
+        let (inferred, given) = (dir.join(format!("{label}-inferred.bvh")), dir.join(format!("{label}-given.bvh")));
+        let base = ["stylize", content.as_str(), "--style-motion", reference.as_str(), "--weights", s(&shipped)];
+        let out = ok(&[&base[..], &["-o", s(&inferred)]].concat());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains(&format!("inferred the reference's label: {label}")), "{stderr}");
+        let out = ok(&[&base[..], &["--label", label, "-o", s(&given)]].concat());
+        assert!(!String::from_utf8_lossy(&out.stderr).contains("inferred"));
+        assert_eq!(read(&inferred), read(&given), "{label}");
+    }
 }

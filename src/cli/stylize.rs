@@ -11,8 +11,9 @@ use std::path::{Path, PathBuf};
 pub struct StylizeArgs {
     /// The motion to stylize (BVH, any rig the importer knows).
     content: PathBuf,
-    /// Motion-based: take the style of this motion (BVH, any rig). The supervised model also needs
-    /// its style label (--label); the unsupervised one (--unsupervised) does not.
+    /// Motion-based: take the style of this motion (BVH, any rig). The supervised model takes its
+    /// style label from --label, or infers it (and says which); the unsupervised one
+    /// (--unsupervised) takes none.
     #[arg(long, value_name = "REF.bvh", conflicts_with = "prior")]
     style_motion: Option<PathBuf>,
     /// Label-based (supervised model): the target style label (see `motion-stylizer styles`).
@@ -90,6 +91,16 @@ pub fn run(args: &StylizeArgs) -> anyhow::Result<()> {
 
     let content = import(&args.content)?;
     let reference = args.style_motion.as_deref().map(import).transpose()?;
+    // Supervised motion-based without a label: the reference's label is inferred.
+    let label = match (&reference, label, setting) {
+        (Some(r), None, Setting::Supervised) => {
+            let (style, _) = stylize::infer_label(&weights, &r.motion)?;
+            let name = weights.style_name(style).unwrap_or("?");
+            eprintln!("inferred the reference's label: {name} (pass --label to choose it)");
+            Some(style)
+        }
+        (_, label, _) => label,
+    };
     let source = match (&reference, label) {
         (Some(r), label) => StyleSource::Motion { motion: &r.motion, label },
         (None, Some(label)) => StyleSource::Label(label),

@@ -21,7 +21,7 @@ use super::weights::{Setting, Weights};
 use super::{feet, legs};
 use crate::Motion;
 use crate::dataset::Style;
-use crate::features::{DIM, FeatureError, Features, ROOT_ANG_VEL, View, extract_placed, reconstruct};
+use crate::features::{DIM, FeatureError, Features, MODEL_DIM, ROOT_ANG_VEL, View, extract_placed, reconstruct};
 use crate::model::config::FRAME_MULTIPLE;
 use crate::model::layers::{channels, one_hot};
 use crate::model::{Model, NoiseRng, StyleDistribution};
@@ -321,4 +321,40 @@ pub fn style_code_of(
     let latent = model.encode(prepared.tensor)?;
     let dist = model.style_distribution(latent, label.map(|l| vec![l]).as_deref())?;
     read_back(dist.mean)
+}
+
+/// Frames of a reference the label inference looks at (its first 34 s): 16 labels × this fill
+/// one batch of [`BATCH_FRAME_BUDGET`].
+const INFER_FRAMES: usize = 1024;
+
+/// The style label of `motion` for the supervised model, when the user gives none: the label
+/// under which the model reconstructs the motion best — each label's posterior mean of the
+/// motion's own style, through the generator with the motion's own content and that label,
+/// decoded and compared with the motion (mean absolute error of the normalised features the
+/// autoencoder sees, over the real frames). The supervised stylizer is trained to reconstruct a
+/// clip from its content and its style under its true label, so the true label fits best.
+/// Returns the label and each label's error (one batch: all labels at once, at most the first
+/// [`INFER_FRAMES`] frames).
+pub fn infer_label(weights: &Weights, motion: &Motion) -> Result<(Style, Vec<f32>), StylizeError> {
+    let model = weights.model(Setting::Supervised)?;
+    let n = model.config.num_styles;
+    let motion = if motion.frames() > INFER_FRAMES { motion.slice(0, INFER_FRAMES) } else { motion.clone() };
+    let prepared = prepare(weights.norm(), &motion, "reference", model.device())?;
+    let frames = prepared.frames;
+    let latent = model.encode(prepared.tensor.clone())?;
+    let content = model.content(latent.clone())?;
+    let labels: Vec<usize> = (0..n).collect();
+    let dist = model.style_distribution(latent.repeat_dim(0, n), Some(&labels))?;
+    let rows = one_hot(&labels, n, model.device());
+    let decoded = model.decode(model.generate_with(content.repeat_dim(0, n), dist.mean, Some(rows))?)?;
+    let target = channels(prepared.tensor, 0..MODEL_DIM).narrow(2, 0, frames).repeat_dim(0, n);
+    let error = (channels(decoded, 0..MODEL_DIM).narrow(2, 0, frames) - target).abs().mean_dim(2).mean_dim(1);
+    let errors = read_back(error)?;
+    let best = errors
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(b.1))
+        .map(|(i, _)| i)
+        .ok_or_else(|| StylizeError::Model("no style labels".into()))?;
+    Ok((Style(best as u8), errors))
 }
