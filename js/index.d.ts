@@ -101,7 +101,7 @@ export interface SourceMotion {
   file: { frames: number; fps: number };
 }
 
-/** One style source. With the supervised model, `styleMotion` needs the reference's `label`. */
+/** One style source. With the supervised model, `styleMotion` takes the reference's `label`, or infers it (`inferredLabel` on the results). */
 export type StyleSource =
   | { label: string }
   | { styleMotion: Motion | string; label?: string }
@@ -133,6 +133,8 @@ export class StylizedMotion {
   toBvh(): string;
   /** World joint positions: frames × joints × 3. */
   positions(): Float32Array;
+  /** Set when the style came from a reference given without a label to the supervised model: the label inferred for it. */
+  readonly inferredLabel?: string;
   /** Releases its memory in the engine now rather than when garbage-collected; it cannot be used after. */
   free(): void;
 }
@@ -154,6 +156,8 @@ export class Stylizer {
   settings(): Array<'supervised' | 'unsupervised'>;
   importBvh(text: string): Motion;
   stylize(content: Motion | string, options: StylizeOptions): Promise<StylizedMotion[]>;
+  /** The supervised model's style label for a reference (the one it reconstructs the motion best under). */
+  inferLabel(reference: Motion | string): string;
   /** Releases the engine's memory now rather than when garbage-collected (a later call loads the kept weights again). */
   free(): void;
 }

@@ -432,15 +432,34 @@ export class Stylizer {
     if (temperature !== undefined && typeof temperature !== 'number') {
       throw codedError('BAD_REQUEST', 'temperature must be a number in [0, 4]');
     }
+    // Supervised motion-based without a label: the reference's label is inferred and reported.
+    let inferredLabel;
+    if (options.styleMotion != null && !unsupervised && options.label == null && options.mix == null) {
+      inferredLabel = this.inferLabel(options.styleMotion);
+      options = { ...options, label: inferredLabel };
+    }
     const engine = this.#live();
     const made = generation;
     const spec = styleSpec(this, options, 0);
     try {
       const request = { unsupervised, samples, seed, canonical: rig === 'canonical', temperature };
-      return guard(() => engine.stylize(motion, spec, request).map((o) => new StylizedMotion(o)));
+      const outputs = guard(() => engine.stylize(motion, spec, request).map((o) => new StylizedMotion(o)));
+      if (inferredLabel !== undefined) for (const o of outputs) o.inferredLabel = inferredLabel;
+      return outputs;
     } finally {
       release(spec, made);
     }
+  }
+
+  /**
+   * The supervised model's style label for a reference motion (a Motion or BVH text): the label
+   * under which it reconstructs the motion best. `stylize({ styleMotion })` without a label uses it
+   * and sets `inferredLabel` on each result.
+   */
+  inferLabel(reference) {
+    const motion = engineMotion(this.asMotion(reference, 'reference'));
+    const engine = this.#live();
+    return guard(() => engine.inferLabel(motion));
   }
 
   /** Releases the engine's memory now rather than when garbage-collected (a later call loads the kept weights again). */

@@ -94,6 +94,15 @@ impl Engine {
             .collect())
     }
 
+    /// The supervised model's label for a reference motion given without one
+    /// ([`crate::stylize::infer_label`]): its name. Errors: `SETTING_UNAVAILABLE` without the
+    /// supervised model, `TOO_LONG`, `BAD_MOTION`.
+    #[wasm_bindgen(js_name = inferLabel)]
+    pub fn infer_label(&self, reference: &ImportedMotion) -> Result<String, JsValue> {
+        let (style, _) = stylize::infer_label(&self.weights, &reference.motion).map_err(|e| stylize_error(&e))?;
+        Ok(self.weights.style_name(style).unwrap_or_default().to_string())
+    }
+
     /// Internal, for the tests of the panic backstop only (not part of the package's API):
     /// panics on purpose, which traps the instance. The JS wrapper must then report `INTERNAL`
     /// with this panic's message and carry on with a fresh instance (`tests/npm/api.test.mjs`).

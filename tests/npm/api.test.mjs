@@ -89,6 +89,19 @@ test('stylize: every style source; seeds are deterministic', async () => {
   assert.deepEqual(await bvh({ mix: { a: { label: 'old' }, b: { label: 'sad' }, t: 0 }, seed: 4 }), await bvh({ label: 'old', seed: 4 }));
 });
 
+test('supervised motion-based without a label: the reference label inferred and reported', async () => {
+  const content = s.importBvh(walk);
+  assert.equal(s.inferLabel(ref), 'old');
+  assert.equal(s.inferLabel(read(fixture('bandai/dataset-1_walk_tired_001_f90.bvh'))), 'tired');
+  const [inferred] = await s.stylize(content, { styleMotion: ref });
+  const [given] = await s.stylize(content, { styleMotion: ref, label: 'old' });
+  assert.equal(inferred.inferredLabel, 'old');
+  assert.equal(given.inferredLabel, undefined);
+  assert.equal(inferred.toBvh(), given.toBvh());
+  const [unsup] = await s.stylize(content, { styleMotion: ref, unsupervised: true });
+  assert.equal(unsup.inferredLabel, undefined, 'the unsupervised model takes no label');
+});
+
 test('errors: stable codes', async () => {
   const content = s.importBvh(walk);
   await rejects(() => s.importBvh('HIERARCHY\nROOT'), 'BVH_PARSE');
@@ -104,7 +117,6 @@ test('errors: stable codes', async () => {
   await rejects(() => s.stylize(content, { label: 7 }), 'BAD_REQUEST');
   await rejects(() => s.stylize(content, { label: 'old', prior: true }), 'BAD_REQUEST');
   await rejects(() => s.stylize(content, { label: 'old', unsupervised: true }), 'BAD_REQUEST');
-  await rejects(() => s.stylize(content, { styleMotion: ref }), 'BAD_REQUEST');
   await rejects(() => s.stylize(content, { styleMotion: {} }), 'BAD_REQUEST');
   await rejects(() => s.stylize(content, { label: 'old', samples: 0 }), 'BAD_REQUEST');
   await rejects(() => s.stylize(content, { label: 'old', samples: 65 }), 'BAD_REQUEST');

@@ -190,6 +190,10 @@ test('modes: reference motion, prior with N samples as thumbnails, mix slider; W
   assert.equal(await page.inputValue('#ref-label'), 'tired');
   await stylize(page);
   assert.match(await page.textContent('#status'), /“tired”/);
+  // Left to the package: the supervised model infers the reference's label and the page says so.
+  await page.selectOption('#ref-label', '');
+  await stylize(page);
+  assert.match(await page.textContent('#status'), /label, inferred: tired/);
   // A reference from a file, on another rig, with the label picked by hand.
   await page.setInputFiles('#ref-file', fixture('foreign/cmu31_xia_neutral_16_000.bvh'));
   await page.waitForFunction(() => document.getElementById('ref-info').textContent.includes('cmu31_xia'));

@@ -198,7 +198,7 @@ async function stylize() {
   status(`Stylizing ${state.content.name}${n > 1 ? ` (${n} samples)` : ''}…`);
   const started = performance.now();
   try {
-    const { outputs, ms } = await worker.call('stylize', request);
+    const { outputs, ms, inferredLabel } = await worker.call('stylize', request);
     const report = state.content.report;
     const turn = state.content.display.turn;
     state.results = outputs.map((o) => ({ bvh: o.bvh, display: toDisplay(o, report, turn) }));
@@ -211,7 +211,8 @@ async function stylize() {
     pickResult(Math.min(state.pendingPick ?? 0, state.results.length - 1));
     thumbs.select(state.pick);
     state.pendingPick = null;
-    status(`Stylized as “${styleName(controls)}” in ${Math.round(ms)} ms (${state.results[0].display.frames} frames).`);
+    const inferred = inferredLabel ? ` (the reference's label, inferred: ${inferredLabel})` : '';
+    status(`Stylized as “${styleName(controls)}”${inferred} in ${Math.round(ms)} ms (${state.results[0].display.frames} frames).`);
     document.body.dataset.results = String((Number(document.body.dataset.results) || 0) + 1);
   } catch (e) {
     showError('Stylization failed', e);
@@ -309,7 +310,7 @@ async function openShared(hash) {
   let shared;
   try {
     shared = await decodeState(hash, SAMPLES.map((s) => s.id));
-    for (const l of [shared.label, shared.refLabel, shared.mixA.label, shared.mixB.label]) {
+    for (const l of [shared.label, shared.refLabel || 'normal', shared.mixA.label, shared.mixB.label]) {
       if (!state.styles.includes(l)) throw new Error(`unknown style label "${l}"`);
     }
   } catch (e) {
@@ -396,6 +397,8 @@ async function boot() {
   if (!(await loadEngine('cpu'))) return;
   const labels = state.styles.map((s) => [s, s]);
   for (const id of ['label', 'ref-label', 'mix-a-label', 'mix-b-label']) fillSelect(el(id), labels);
+  // The reference's label may also be left to the package to infer.
+  fillSelect(el('ref-label'), [['', 'infer from the reference'], ...labels]);
   el('label').value = DEFAULT.label;
   el('mix-a-label').value = DEFAULT.label;
   el('ref-label').value = 'old';

@@ -86,7 +86,8 @@ export const usesReference = (c) => c.mode === 'motion' || (c.mode === 'mix' && 
 export function requestOf(c) {
   const unsupervised = c.model === 'unsupervised';
   const part = (p) => {
-    if (p.kind === 'motion') return { kind: 'motion', label: unsupervised ? undefined : c.refLabel };
+    // An empty reference label: the package infers it (supervised).
+    if (p.kind === 'motion') return { kind: 'motion', label: unsupervised || !c.refLabel ? undefined : c.refLabel };
     if (p.kind === 'prior') return { kind: 'prior' };
     return { kind: 'label', label: p.label };
   };
@@ -99,7 +100,7 @@ export function requestOf(c) {
 /** A short name of the style (file names, captions). */
 export function styleName(c) {
   const unsupervised = c.model === 'unsupervised';
-  const part = (p) => (p.kind === 'label' ? p.label : p.kind === 'prior' ? 'prior' : unsupervised ? 'ref' : c.refLabel);
+  const part = (p) => (p.kind === 'label' ? p.label : p.kind === 'prior' ? 'prior' : unsupervised || !c.refLabel ? 'ref' : c.refLabel);
   if (c.mode === 'mix') return `${part(c.mixA)}-${part(c.mixB)}-${c.t.toFixed(2)}`;
   return part({ kind: c.mode, label: c.label });
 }

@@ -9,14 +9,16 @@ const slots = new Map();
 
 const coded = (code, message) => Object.assign(new Error(message), { code });
 
-function styleOf(src) {
+/** The package's style source; `inferred`: the reference's label where the supervised model needs one and none was chosen. */
+function styleOf(src, inferred) {
   switch (src?.kind) {
     case 'label':
       return { label: src.label };
     case 'motion': {
       const m = slots.get('ref');
       if (!m) throw coded('BAD_REQUEST', 'load a reference motion first');
-      return src.label ? { styleMotion: m, label: src.label } : { styleMotion: m };
+      const label = src.label ?? inferred;
+      return label ? { styleMotion: m, label } : { styleMotion: m };
     }
     case 'prior':
       return { prior: true };
@@ -86,7 +88,10 @@ const ops = {
     const content = slots.get('content');
     if (!content) throw coded('BAD_REQUEST', 'load a content motion first');
     const t0 = performance.now();
-    const outputs = await stylizer.stylize(content, { ...styleOf(source), unsupervised, samples, seed, temperature, rig });
+    const needsLabel = (src) => (src?.kind === 'mix' ? needsLabel(src.a) || needsLabel(src.b) : src?.kind === 'motion' && !src.label);
+    const ref = slots.get('ref');
+    const inferredLabel = !unsupervised && ref && needsLabel(source) ? stylizer.inferLabel(ref) : undefined;
+    const outputs = await stylizer.stylize(content, { ...styleOf(source, inferredLabel), unsupervised, samples, seed, temperature, rig });
     const ms = performance.now() - t0;
     const picked = only == null ? outputs : [outputs[only]];
     const result = picked.map((o) => ({
@@ -98,7 +103,7 @@ const ops = {
       fps: o.fps,
     }));
     for (const o of outputs) o.free();
-    return { result: { outputs: result, ms }, transfer: result.filter((o) => o.positions).map((o) => o.positions.buffer) };
+    return { result: { outputs: result, ms, inferredLabel }, transfer: result.filter((o) => o.positions).map((o) => o.positions.buffer) };
   },
 };
 
