@@ -84,7 +84,8 @@ bench-wasm: pkg
 	node bench/wasm/run.mjs
 
 ## bench-perf: ours vs onnxruntime-web (wasm, Node, 1 thread) and vs PyTorch CPU on the same network at the shipped
-## weights, after a parity check (outputs within 1e-4); BVH parsing vs three.js; writes bench/results.json (bench/README.md)
+## weights, after a parity check (outputs within 1e-4); BVH parsing vs three.js; writes bench/results.json (bench/README.md);
+## then bench-train (the training step vs PyTorch)
 .PHONY: bench-perf setup-bench
 BENCH_ROUNDS ?= 5
 BENCH_REPEATS ?= 5
@@ -97,6 +98,23 @@ bench-perf: setup-bench pkg
 	CARGO_TARGET_WASM32_WASIP1_RUSTFLAGS="-C target-feature=+simd128" \
 	  $(CARGO) build --release --example perf_bench --target wasm32-wasip1 --no-default-features --features model
 	node bench/perf/run.mjs --rounds $(BENCH_ROUNDS) --repeats $(BENCH_REPEATS) --threads $(BENCH_THREADS)
+	$(MAKE) --no-print-directory bench-train
+
+## bench-train: ours vs PyTorch CPU on one training step of each stage (autoencoder + regressor; supervised stylizer),
+## batch 16 x 160 frames, at the shipped (0.5) and the paper's (1.0) width, after a parity check of the first 3 steps'
+## losses (within 1e-4); merges train_step_vs_pytorch into bench/results.json (bench/README.md)
+.PHONY: bench-train
+BENCH_TRAIN_ROUNDS ?= 3
+BENCH_TRAIN_REPEATS ?= 3
+BENCH_TRAIN_THREADS ?= 2
+BENCH_TRAIN_WIDTHS ?= 0.5,1
+# Seconds to wait, before each timed run, for the machine to be idle (0: don't wait).
+BENCH_TRAIN_QUIET_WAIT ?= 60
+bench-train:
+	bench/perf/.venv/bin/python -c 'import torch, numpy' 2>/dev/null || scripts/setup-bench.sh
+	$(CARGO) build --release --example train_perf_bench
+	node bench/perf/train_run.mjs --rounds $(BENCH_TRAIN_ROUNDS) --repeats $(BENCH_TRAIN_REPEATS) \
+	  --threads $(BENCH_TRAIN_THREADS) --widths $(BENCH_TRAIN_WIDTHS) --quiet-wait $(BENCH_TRAIN_QUIET_WAIT)
 
 ## bench: parse + retarget + features throughput, and BVH parsing against three.js
 bench:

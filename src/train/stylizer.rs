@@ -51,6 +51,10 @@ step_report! {
     }
 }
 
+/// The trainer's noise generator is seeded with `seed ^ NOISE_SALT` (the reparameterisation draws
+/// of [`stylizer_loss`]; `examples/train_perf_bench.rs` replays them).
+pub const NOISE_SALT: u64 = 0x5eed_57e0;
+
 /// Stage 2: content encoder, style encoder and generator on latents of a frozen autoencoder.
 pub struct StylizerTrainer {
     pub config: ModelConfig,
@@ -91,7 +95,7 @@ impl StylizerTrainer {
             autoencoder,
             net,
             optim: adam(),
-            noise: NoiseRng::new(seed ^ 0x5eed_57e0),
+            noise: NoiseRng::new(seed ^ NOISE_SALT),
             device,
             phases: None,
         }
