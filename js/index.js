@@ -435,8 +435,10 @@ export class Stylizer {
     // Supervised motion-based without a label: the reference's label is inferred and reported.
     let inferredLabel;
     if (options.styleMotion != null && !unsupervised && options.label == null && options.mix == null) {
-      inferredLabel = this.inferLabel(options.styleMotion);
-      options = { ...options, label: inferredLabel };
+      // Imported once (BVH text is not parsed again for the style).
+      const reference = this.asMotion(options.styleMotion, 'styleMotion');
+      inferredLabel = this.inferLabel(reference);
+      options = { ...options, styleMotion: reference, label: inferredLabel };
     }
     const engine = this.#live();
     const made = generation;

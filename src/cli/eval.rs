@@ -10,7 +10,7 @@ use motion_stylizer::eval::classify::Judge;
 use motion_stylizer::eval::protocol::{self, Inputs};
 use motion_stylizer::eval::report::{self, Provenance};
 use motion_stylizer::eval::shift::Directions;
-use motion_stylizer::eval::{load_contents, load_heldout, load_takes};
+use motion_stylizer::eval::{direction_takes, heldout_of, import_takes, load_contents};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -75,7 +75,12 @@ pub fn run(args: &EvalArgs) -> anyhow::Result<()> {
 
     let split_text = super::read_text(&args.split)?;
     let split = Split::parse(&split_text).with_context(|| format!("split file {}", args.split.display()))?;
-    let heldout = load_heldout(&args.data, &split)?;
+    // Every take once: the held-out ones are the references and the `real` row, all of them give
+    // the style directions.
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let takes = import_takes(&args.data, threads, |_| true)?;
+    let heldout =
+        heldout_of(&takes, &split).with_context(|| format!("held-out takes under {}", args.data.display()))?;
     let mut contents = match &args.content {
         None => heldout.clone(),
         Some(dir) => {
@@ -90,8 +95,7 @@ pub fn run(args: &EvalArgs) -> anyhow::Result<()> {
         let n = contents.len();
         contents = (0..args.limit).map(|i| contents[i * n / args.limit].clone()).collect();
     }
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let takes = load_takes(&args.data, threads)?;
+    let takes = direction_takes(&takes);
     let normal = Style::from_name("normal").map(|s| s.index()).context("no `normal` style label")?;
     let directions = Directions::from_takes(&takes, normal);
     eprintln!("style directions from {} takes", takes.len());

@@ -17,23 +17,57 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, ensure};
 
-use crate::dataset::Split;
+use crate::Motion;
 use crate::dataset::corpus::list_takes;
+use crate::dataset::{Split, TakeId};
 use crate::skeleton;
 use protocol::Labelled;
 use shift::{Take, descriptors};
 
+/// The takes under `data` that `keep` selects (both sets, in [`list_takes`]' order), each imported
+/// on one of `threads` threads: its id and its motion, or why it could not be imported.
+pub fn import_takes(
+    data: &Path,
+    threads: usize,
+    keep: impl Fn(&TakeId) -> bool,
+) -> anyhow::Result<Vec<(TakeId, Result<Motion, String>)>> {
+    let takes: Vec<(TakeId, PathBuf)> = list_takes(data)
+        .with_context(|| format!("cannot list the takes in {}", data.display()))?
+        .into_iter()
+        .filter(|(t, _)| keep(t))
+        .collect();
+    let import = |path: &Path| -> Result<Motion, String> {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+        skeleton::import_bvh(&text).map(|i| i.motion).map_err(|e| format!("cannot import {}: {e}", path.display()))
+    };
+    let chunk = takes.len().div_ceil(threads.max(1)).max(1);
+    let parts: Vec<Vec<(TakeId, Result<Motion, String>)>> = std::thread::scope(|scope| {
+        let handles: Vec<_> = takes
+            .chunks(chunk)
+            .map(|part| scope.spawn(move || part.iter().map(|(t, p)| (t.clone(), import(p))).collect::<Vec<_>>()))
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap_or_default()).collect()
+    });
+    Ok(parts.into_iter().flatten().collect())
+}
+
+/// The held-out takes of `split` among `takes`, with their unified style labels; a held-out take
+/// that could not be imported is an error.
+pub fn heldout_of(takes: &[(TakeId, Result<Motion, String>)], split: &Split) -> anyhow::Result<Vec<Labelled>> {
+    let mut out = Vec::new();
+    for (take, motion) in takes.iter().filter(|(t, _)| split.is_heldout(t)) {
+        let motion = motion.clone().map_err(anyhow::Error::msg)?;
+        out.push(Labelled { name: take.stem(), motion, style: Some(take.style().index()) });
+    }
+    ensure!(!out.is_empty(), "no held-out takes of the split found among the takes");
+    Ok(out)
+}
+
 /// The held-out takes of `split` under `data`, imported, with their unified style labels.
 pub fn load_heldout(data: &Path, split: &Split) -> anyhow::Result<Vec<Labelled>> {
-    let takes = list_takes(data).with_context(|| format!("cannot list the takes in {}", data.display()))?;
-    let mut out = Vec::new();
-    for (take, path) in takes.into_iter().filter(|(t, _)| split.is_heldout(t)) {
-        let text = std::fs::read_to_string(&path).with_context(|| format!("cannot read {}", path.display()))?;
-        let imported = skeleton::import_bvh(&text).with_context(|| format!("cannot import {}", path.display()))?;
-        out.push(Labelled { name: take.stem(), motion: imported.motion, style: Some(take.style().index()) });
-    }
-    ensure!(!out.is_empty(), "no held-out takes of the split found under {}", data.display());
-    Ok(out)
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    heldout_of(&import_takes(data, threads, |t| split.is_heldout(t))?, split)
+        .with_context(|| format!("held-out takes under {}", data.display()))
 }
 
 /// Every `.bvh` file in `dir` (sorted by name) as unlabelled contents; files that cannot be
@@ -63,38 +97,19 @@ pub fn load_contents(dir: &Path) -> anyhow::Result<(Vec<Labelled>, Vec<(PathBuf,
     Ok((ok, failed))
 }
 
-/// Every take under `data` (both sets, training and held-out) as a [`Take`] for the style
-/// directions: its content key, unified style and descriptors. Takes that cannot be imported are
-/// skipped with a warning (none are expected). Imported on `threads` threads.
-pub fn load_takes(data: &Path, threads: usize) -> anyhow::Result<Vec<Take>> {
-    let takes = list_takes(data).with_context(|| format!("cannot list the takes in {}", data.display()))?;
-    let chunk = takes.len().div_ceil(threads.max(1)).max(1);
-    let parts: Vec<Vec<Take>> = std::thread::scope(|scope| {
-        let handles: Vec<_> = takes
-            .chunks(chunk)
-            .map(|part| {
-                scope.spawn(move || {
-                    let mut out = Vec::with_capacity(part.len());
-                    for (take, path) in part {
-                        let imported = std::fs::read_to_string(path)
-                            .map_err(|e| e.to_string())
-                            .and_then(|text| skeleton::import_bvh(&text).map_err(|e| e.to_string()));
-                        match imported {
-                            Ok(i) => out.push(Take {
-                                content: take.content_key(),
-                                style: take.style().index(),
-                                descriptors: descriptors(&i.motion),
-                            }),
-                            Err(e) => eprintln!("warning: skipped {}: {e}", path.display()),
-                        }
-                    }
-                    out
-                })
-            })
-            .collect();
-        handles.into_iter().map(|h| h.join().unwrap_or_default()).collect()
-    });
-    let out: Vec<Take> = parts.into_iter().flatten().collect();
-    ensure!(!out.is_empty(), "no takes found under {}", data.display());
-    Ok(out)
+/// The imported takes as [`Take`]s for the style directions: content key, unified style and
+/// descriptors. Takes that could not be imported are skipped with a warning (none are expected).
+pub fn direction_takes(takes: &[(TakeId, Result<Motion, String>)]) -> Vec<Take> {
+    takes
+        .iter()
+        .filter_map(|(take, motion)| match motion {
+            Ok(m) => {
+                Some(Take { content: take.content_key(), style: take.style().index(), descriptors: descriptors(m) })
+            }
+            Err(e) => {
+                eprintln!("warning: skipped {e}");
+                None
+            }
+        })
+        .collect()
 }

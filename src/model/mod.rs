@@ -36,7 +36,7 @@ pub use generator::Generator;
 pub use regressor::GlobalRegressor;
 pub use rng::NoiseRng;
 pub use style::{StyleDistribution, StyleEncoder};
-pub use stylizer::{Model, MotionModel, StyleCode, StyleSampling, Stylizer, check_features, check_frames};
+pub use stylizer::{Model, MotionModel, StyleCode, StyleSampling, Stylizer, check_features};
 
 /// Errors of the model API (bad shapes or labels, bad weight bytes). Nothing here panics on user
 /// input.

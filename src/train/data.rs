@@ -21,7 +21,8 @@ pub struct TrainData {
     pub sampler: WindowSampler,
     /// The fixed held-out windows and pairs.
     pub heldout: HeldoutSet,
-    /// Whole held-out takes, normalised, with their labels (the classifier's evaluation).
+    /// Whole held-out takes, normalised, with their labels: the classifier's evaluation (empty for
+    /// the other stages).
     pub heldout_takes: Vec<(Features, usize)>,
     pub norm: NormStats,
     pub batch: usize,
@@ -78,10 +79,11 @@ impl TrainData {
         let sampler = WindowSampler::new(&frames, &styles, window);
         ensure!(sampler.eligible() > 0, "no training take has {window} frames or more (--window {window})");
         let heldout = HeldoutSet::new(&corpus.heldout, &norm, window, opts.eval_windows);
-        let heldout_takes = normalized(&corpus.heldout, &norm)
-            .into_iter()
-            .zip(corpus.heldout.iter().map(|c| c.style.index()))
-            .collect();
+        let heldout_takes = if config.stage == "classifier" {
+            normalized(&corpus.heldout, &norm).into_iter().zip(corpus.heldout.iter().map(|c| c.style.index())).collect()
+        } else {
+            Vec::new()
+        };
         config.train_clips = sampler.eligible();
         config.train_clips_skipped = sampler.skipped();
         config.eval_windows = heldout.len();

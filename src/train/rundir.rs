@@ -157,14 +157,6 @@ pub fn load_module<M: Module>(template: M, bytes: &[u8]) -> anyhow::Result<M> {
     template.try_load_record(record).map_err(|e| anyhow::anyhow!("weights do not fit the network: {e}"))
 }
 
-/// The run's configuration and its checkpoint.
-pub fn read_run(dir: &Path) -> anyhow::Result<(RunConfig, Checkpoint)> {
-    let config: RunConfig =
-        read_json(&dir.join(CONFIG)).with_context(|| format!("{} is not a training run folder", dir.display()))?;
-    let ckpt = Checkpoint::read(&dir.join(CHECKPOINT))?;
-    Ok((config, ckpt))
-}
-
 fn is_nonempty_dir(dir: &Path) -> bool {
     std::fs::read_dir(dir).map(|mut d| d.next().is_some()).unwrap_or(false)
 }

@@ -153,25 +153,6 @@ pub struct TrainOptions {
 }
 
 impl TrainOptions {
-    /// Defaults with the given data and run folders.
-    pub fn new(data: impl Into<PathBuf>, out: impl Into<PathBuf>) -> Self {
-        Self {
-            data: data.into(),
-            out: out.into(),
-            resume: false,
-            steps: 20_000,
-            settings: SettingChoices::default(),
-            checkpoint_every: 500,
-            eval_every: 1000,
-            eval_windows: 512,
-            threads: None,
-            split: PathBuf::from(DEFAULT_SPLIT),
-            log_every: 100,
-            progress: ProgressMode::Auto,
-            command: std::env::args().collect::<Vec<_>>().join(" "),
-        }
-    }
-
     /// Threads of the corpus loader: `--threads`, else every core.
     pub fn loader_threads(&self) -> usize {
         self.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1)
