@@ -120,6 +120,11 @@ export type StylizeOptions = StyleSource & {
    * (measured: closer to the label's style than the paper's 1.0); 0 is the label's mean style.
    */
   temperature?: number;
+  /**
+   * How far the output goes towards the style, 0-2: 0 gives back the content's motion, 1 (default)
+   * the stylizer's output, 2 twice its change (exaggerated). The style shift grows with it.
+   */
+  strength?: number;
   /** Output skeleton: the content's own rig (default) or the canonical 21-joint rig. */
   rig?: 'content' | 'canonical';
 };

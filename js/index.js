@@ -421,16 +421,20 @@ export class Stylizer {
    * Stylizes `content` (a Motion or BVH text). Options: one style source (label | styleMotion
    * (+ label for the supervised model) | prior: true | mix: {a, b, t}), unsupervised, samples
    * (1-64), seed (integer or BigInt), rig ('content' | 'canonical'), temperature (scale of prior
-   * draws, 0-4; default the library's, 0.3).
+   * draws, 0-4; default the library's, 0.3), strength (how far towards the style, 0-2: 0 the
+   * content itself, 1 the default, 2 exaggerated).
    */
   async stylize(content, options = {}) {
     const motion = engineMotion(this.asMotion(content, 'content'));
-    const { unsupervised = false, samples = 1, seed = 0, rig = 'content', temperature } = options;
+    const { unsupervised = false, samples = 1, seed = 0, rig = 'content', temperature, strength } = options;
     if (rig !== 'content' && rig !== 'canonical') throw codedError('BAD_REQUEST', "rig must be 'content' or 'canonical'");
     if (typeof samples !== 'number') throw codedError('BAD_REQUEST', 'samples must be a number');
     if (typeof unsupervised !== 'boolean') throw codedError('BAD_REQUEST', 'unsupervised must be a boolean');
     if (temperature !== undefined && typeof temperature !== 'number') {
       throw codedError('BAD_REQUEST', 'temperature must be a number in [0, 4]');
+    }
+    if (strength !== undefined && typeof strength !== 'number') {
+      throw codedError('BAD_REQUEST', 'strength must be a number in [0, 2]');
     }
     // Supervised motion-based without a label: the reference's label is inferred and reported.
     let inferredLabel;
@@ -444,7 +448,7 @@ export class Stylizer {
     const made = generation;
     const spec = styleSpec(this, options, 0);
     try {
-      const request = { unsupervised, samples, seed, canonical: rig === 'canonical', temperature };
+      const request = { unsupervised, samples, seed, canonical: rig === 'canonical', temperature, strength };
       const outputs = guard(() => engine.stylize(motion, spec, request).map((o) => new StylizedMotion(o)));
       if (inferredLabel !== undefined) for (const o of outputs) o.inferredLabel = inferredLabel;
       return outputs;

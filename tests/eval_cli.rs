@@ -120,6 +120,20 @@ fn heldout_rows_have_every_metric_where_it_applies_and_null_where_not() {
         assert!(l["outputs"].as_u64().unwrap() >= 1 && l["style_acc"].is_f64());
     }
     assert!(row(&v, "real")["style_shift"].is_null() && row(&v, "unsup_prior")["style_shift"].is_null());
+
+    // Content measures, with the committed content classifier: every content here has a content
+    // class (walk, raise-up-both-hands); the identity is its own contents (content FID 0), the
+    // real takes have no content FID.
+    assert!(v["provenance"]["content_classifier"].as_str().unwrap().ends_with("content-classifier.bin"));
+    assert!(row(&v, "real")["content_fid"].is_null());
+    assert!(row(&v, "identity")["content_fid"].as_f64().unwrap().abs() < 1e-6);
+    for setting in ["real", "identity", "sup_motion", "sup_label", "unsup_motion", "unsup_prior"] {
+        let acc = row(&v, setting)["content_acc"].as_f64().unwrap_or_else(|| panic!("{setting} content_acc"));
+        assert!((0.0..=1.0).contains(&acc), "{setting} content acc {acc}");
+        if !["real", "identity"].contains(&setting) {
+            assert!(row(&v, setting)["content_fid"].as_f64().unwrap() > 0.0, "{setting} content FID");
+        }
+    }
     let _ = std::fs::remove_dir_all(dir);
 }
 
@@ -130,6 +144,9 @@ fn foreign_rig_contents_are_stylized_zero_shot() {
     let v = eval(&dir, &["--content", foreign.to_str().unwrap()]);
     assert_eq!(v["provenance"]["num_contents"], 4);
     assert!(row(&v, "sup_label")["style_acc"].is_f64());
+    // Foreign files have no content class (no content accuracy) but a content FID to themselves.
+    assert!(row(&v, "sup_label")["content_acc"].is_null());
+    assert!(row(&v, "sup_label")["content_fid"].as_f64().unwrap() > 0.0);
     let _ = std::fs::remove_dir_all(dir);
 }
 

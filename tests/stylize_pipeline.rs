@@ -350,3 +350,63 @@ fn timing_160_frames_width_half() {
         ten / one
     );
 }
+
+/// The manifest's label codes: label-based codes are drawn around the label's centre (all-zero
+/// centres give exactly the codes around 0, other centres other motions, the same bits for the
+/// same seed); codes of the wrong shape or not finite are refused.
+#[test]
+fn label_codes_centre_the_label_based_draws() {
+    use motion_stylizer::dataset::STYLES;
+    use motion_stylizer::stylize::LabelCodes;
+    let f = files();
+    let dim = config(true).style_dim;
+    let with_codes = |codes: Vec<Vec<f32>>| {
+        let mut m = manifest();
+        m.models[0].label_codes = Some(LabelCodes { command: "test".into(), takes: vec![1; STYLES.len()], codes });
+        Weights::from_bytes(&serde_json::to_vec(&m).unwrap(), &f.norm, Some(&f.supervised), None)
+    };
+    let content = import("bandai", SHORT).motion;
+    let w = weights();
+    let request = Request::new(StyleSource::Label(label(&w, "old"))).with_seed(4).with_samples(2);
+    let plain = stylize::stylize(&w, &content, &request).unwrap();
+
+    let zero = with_codes(vec![vec![0.0; dim]; STYLES.len()]).unwrap();
+    assert_eq!(zero.label_code(label(&w, "old")), Some(&vec![0.0; dim][..]));
+    assert_eq!(stylize::stylize(&zero, &content, &request).unwrap(), plain, "a zero centre is the prior's mean");
+
+    let centred = with_codes((0..STYLES.len()).map(|l| vec![0.5 + l as f32 * 0.1; dim]).collect()).unwrap();
+    let moved = stylize::stylize(&centred, &content, &request).unwrap();
+    assert_ne!(moved, plain, "a centre away from 0 changes the motions");
+    assert_eq!(stylize::stylize(&centred, &content, &request).unwrap(), moved, "same seed, same bits");
+
+    let refused = |r: Result<Weights, StylizeError>| match r {
+        Err(StylizeError::BadWeights(msg)) => assert!(msg.contains("label codes"), "{msg}"),
+        other => panic!("expected BadWeights, got {other:?}"),
+    };
+    refused(with_codes(vec![vec![0.0; dim]; STYLES.len() - 1]));
+    refused(with_codes(vec![vec![0.0; dim + 1]; STYLES.len()]));
+    // A number beyond f32 (JSON has no NaN or infinity) is refused when the manifest is read.
+    let mut m = serde_json::to_value(manifest()).unwrap();
+    m["models"][0]["label_codes"] =
+        serde_json::json!({"command": "test", "takes": vec![1; STYLES.len()], "codes": vec![vec![1e39; dim]; STYLES.len()]});
+    let err = Weights::from_bytes(&serde_json::to_vec(&m).unwrap(), &f.norm, Some(&f.supervised), None).unwrap_err();
+    assert!(matches!(&err, StylizeError::BadWeights(msg) if msg.contains("out of range")), "{err:?}");
+}
+
+/// Strength: 0 gives back the content (bit for bit) without running the style source, 1 is the
+/// default output, others change it; outside [0, 2] or not finite is refused.
+#[test]
+fn strength_scales_the_change_and_is_checked() {
+    let w = weights();
+    let content = import("bandai", SHORT).motion;
+    let request = Request::new(StyleSource::Label(label(&w, "old"))).with_seed(2);
+    let at = |s: f32| stylize::stylize(&w, &content, &request.clone().with_strength(s));
+    assert_eq!(at(0.0).unwrap(), vec![content.clone()]);
+    assert_eq!(at(1.0).unwrap(), stylize::stylize(&w, &content, &request).unwrap());
+    assert_ne!(at(1.5).unwrap(), at(1.0).unwrap());
+    for s in [-0.1, 2.01, f32::NAN, f32::INFINITY] {
+        let err = at(s).unwrap_err();
+        assert!(matches!(err, StylizeError::Strength { max, .. } if max == 2.0), "{s}: {err:?}");
+        assert_eq!(err.code(), "BAD_REQUEST");
+    }
+}

@@ -115,3 +115,66 @@ fn stylized_walks_keep_their_feet_planted_without_popping_legs() {
     let mean = skates.iter().sum::<f64>() / skates.len() as f64;
     assert!(mean <= 0.8 * content_skate, "feet slide {mean:.1} cm/s on average, the real walk {content_skate:.1}");
 }
+
+/// The style directions `make eval` committed with its results (`assets/eval/heldout.json`,
+/// computed from all 3,076 Bandai-Namco takes, which the tests do not have).
+#[cfg(not(target_arch = "wasm32"))]
+fn committed_directions(w: &Weights) -> motion_stylizer::eval::shift::Directions {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/eval/heldout.json");
+    let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    motion_stylizer::eval::report::directions_from_json(&json["directions"], w.styles()).expect("directions")
+}
+
+/// Shift of `out` from `content` towards `label` (1.0: as far as a real take of the label is
+/// from a `normal` take of the same content; `eval`'s style shift).
+#[cfg(not(target_arch = "wasm32"))]
+fn shift(w: &Weights, label: &str, content: &Motion, out: &Motion) -> f64 {
+    use motion_stylizer::eval::shift::descriptors;
+    let style = w.style(label).unwrap().index();
+    committed_directions(w).shift(style, &descriptors(content), &descriptors(out)).expect("a scored style")
+}
+
+/// A person can see `angry` and `old` on a normal walk: label-based at the default settings, each
+/// moves the walk at least half as far as a real take of the style differs from a `normal` one
+/// (the mean of 4 samples; measured with the label codes 0.92 and 1.18, without them 0.76 and
+/// 0.79 — this walk is a training take; EVALUATION.md has the held-out and foreign contents).
+#[cfg(not(target_arch = "wasm32"))]
+#[test]
+fn labels_angry_and_old_visibly_restyle_a_walk() {
+    let w = shipped();
+    let content = import("bandai", "dataset-2_walk_normal_001_f120").motion;
+    for label in ["angry", "old"] {
+        let request = Request::new(StyleSource::Label(w.style(label).unwrap())).with_samples(4);
+        let outs = stylize::stylize(&w, &content, &request).unwrap();
+        let shifts: Vec<f64> = outs.iter().map(|o| shift(&w, label, &content, o)).collect();
+        let mean = shifts.iter().sum::<f64>() / shifts.len() as f64;
+        eprintln!("{label}: shifts {shifts:.2?}, mean {mean:.2}");
+        assert!(mean >= 0.5, "{label}: the walk moves only {mean:.2} of the way to a real {label} take");
+    }
+}
+
+/// Strength 0 gives back the content; the style shift grows with the strength (0, 0.5, 1, 1.5,
+/// 2), label-based and motion-based; strength 1 is the default output, bit for bit.
+#[cfg(not(target_arch = "wasm32"))]
+#[test]
+fn style_shift_grows_with_the_strength() {
+    let w = shipped();
+    let content = import("bandai", "dataset-2_walk_normal_001_f120").motion;
+    let reference = import("bandai", "dataset-2_walk_elderly_001_f120").motion;
+    let old = w.style("old").unwrap();
+    let sources = [
+        ("label old", Request::new(StyleSource::Label(old)).with_seed(5)),
+        ("supervised motion", Request::new(StyleSource::labelled_motion(&reference, old))),
+        ("unsupervised motion", Request::new(StyleSource::motion(&reference)).with_setting(Setting::Unsupervised)),
+    ];
+    for (name, request) in sources {
+        let at = |s: f32| stylize::stylize(&w, &content, &request.clone().with_strength(s)).unwrap().remove(0);
+        assert_eq!(at(0.0), content, "{name}: strength 0 is the content itself");
+        assert_eq!(at(1.0), stylize::stylize(&w, &content, &request).unwrap().remove(0), "{name}: 1 is the default");
+        let shifts: Vec<f64> = [0.0, 0.5, 1.0, 1.5, 2.0].iter().map(|&s| shift(&w, "old", &content, &at(s))).collect();
+        eprintln!("{name}: shifts at strength 0, 0.5, 1, 1.5, 2: {shifts:.2?}");
+        assert!(shifts.windows(2).all(|p| p[1] > p[0]), "{name}: the shift does not grow with the strength: {shifts:.2?}");
+    }
+    let refused = stylize::stylize(&w, &content, &Request::new(StyleSource::Label(old)).with_strength(2.5));
+    assert!(matches!(refused, Err(stylize::StylizeError::Strength { .. })), "{refused:?}");
+}

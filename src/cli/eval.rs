@@ -4,7 +4,7 @@
 use anyhow::Context;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use motion_stylizer::dataset::Split;
+use motion_stylizer::dataset::{CONTENTS, Split};
 use motion_stylizer::dataset::Style;
 use motion_stylizer::eval::classify::Judge;
 use motion_stylizer::eval::protocol::{self, Inputs};
@@ -45,6 +45,17 @@ pub struct EvalArgs {
     /// Held-out split file.
     #[arg(long, default_value = "assets/split/heldout.txt", value_name = "FILE")]
     split: PathBuf,
+    /// The content classifier (`train content-classifier` writes it as classifier.bin in its run
+    /// folder) for content_acc and content_fid [default: assets/eval/content-classifier.bin in the
+    /// crate, if it is there].
+    #[arg(long, value_name = "FILE")]
+    content_classifier: Option<PathBuf>,
+    /// Style strength of every stylization (0-2; see `stylize --strength`).
+    #[arg(long, default_value_t = motion_stylizer::stylize::DEFAULT_STRENGTH, value_name = "S")]
+    strength: f32,
+    /// Temperature of the prior draws (see `stylize --temperature`).
+    #[arg(long, default_value_t = motion_stylizer::stylize::DEFAULT_TEMPERATURE, value_name = "T")]
+    temperature: f32,
 }
 
 fn crate_path(rel: &str) -> PathBuf {
@@ -72,6 +83,31 @@ pub fn run(args: &EvalArgs) -> anyhow::Result<()> {
         judge.num_styles(),
         weights.styles().len()
     );
+
+    let content_path = match &args.content_classifier {
+        Some(p) => Some(p.clone()),
+        None => Some(crate_path("assets/eval/content-classifier.bin")).filter(|p| p.is_file()),
+    };
+    let content_judge = match &content_path {
+        Some(path) => {
+            let bytes = std::fs::read(path)
+                .with_context(|| format!("cannot read the content classifier {}", path.display()))?;
+            let judge = Judge::from_bytes(&bytes, weights.norm().clone())
+                .with_context(|| format!("{} is not a classifier", path.display()))?;
+            anyhow::ensure!(
+                judge.num_styles() == CONTENTS.len(),
+                "{} knows {} classes, not the {} content classes",
+                path.display(),
+                judge.num_styles(),
+                CONTENTS.len()
+            );
+            Some(judge)
+        }
+        None => {
+            eprintln!("no content classifier (assets/eval/content-classifier.bin): no content_acc, content_fid");
+            None
+        }
+    };
 
     let split_text = super::read_text(&args.split)?;
     let split = Split::parse(&split_text).with_context(|| format!("split file {}", args.split.display()))?;
@@ -114,6 +150,9 @@ pub fn run(args: &EvalArgs) -> anyhow::Result<()> {
         repeats: args.repeats,
         seed: args.seed,
         directions: Some(&directions),
+        content_judge: content_judge.as_ref(),
+        strength: args.strength,
+        temperature: args.temperature,
     };
     let evaluation = protocol::evaluate(&inputs, &mut |done, _| bar.set_position(done as u64))?;
     bar.finish_and_clear();
@@ -124,6 +163,7 @@ pub fn run(args: &EvalArgs) -> anyhow::Result<()> {
         command: std::env::args().collect::<Vec<_>>().join(" "),
         weights: shown(&weights_dir),
         classifier: shown(&classifier_path),
+        content_classifier: content_path.as_deref().map(shown),
         contents: args.content.as_ref().map_or("heldout".into(), |d| d.display().to_string()),
         num_contents: contents.len(),
         num_heldout: heldout.len(),

@@ -4,6 +4,8 @@
 mod eval;
 #[cfg(feature = "model")]
 mod export;
+#[cfg(feature = "model")]
+mod label_codes;
 mod inspect;
 mod retarget;
 mod split;
@@ -75,6 +77,10 @@ enum Command {
     /// Write the shipped weights folder (manifest, norm.json, f16 bundles) from finished runs.
     #[cfg(feature = "model")]
     Export(export::ExportArgs),
+    /// Compute the supervised model's label codes (where each label's training takes sit in its
+    /// style space; label-based styles are drawn around them) into the weights' manifest.
+    #[cfg(feature = "model")]
+    LabelCodes(label_codes::LabelCodesArgs),
     /// Evaluate the shipped weights: style accuracy, style FID, geodesic distance, diversity and
     /// foot skating per setting, with 95 % confidence intervals over repeats.
     #[cfg(feature = "model")]
@@ -94,6 +100,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Train(args) => train::run(args),
         #[cfg(feature = "model")]
         Command::Export(args) => export::run(&args),
+        #[cfg(feature = "model")]
+        Command::LabelCodes(args) => label_codes::run(&args),
         #[cfg(feature = "model")]
         Command::Eval(args) => eval::run(&args),
     }

@@ -37,6 +37,10 @@ pub struct StylizeArgs {
     /// paper's N(0, I). Lower: closer to the label's typical style, less variety.
     #[arg(long, default_value_t = stylize::DEFAULT_TEMPERATURE, value_name = "T")]
     temperature: f32,
+    /// How far towards the style, 0-2: 0 gives back the content's motion, 1 the stylizer's
+    /// output, 2 twice its change (exaggerated).
+    #[arg(long, default_value_t = stylize::DEFAULT_STRENGTH, value_name = "S")]
+    strength: f32,
     /// Write the output on the canonical 21-joint rig instead of the content's own rig.
     #[arg(long)]
     canonical: bool,
@@ -106,7 +110,14 @@ pub fn run(args: &StylizeArgs) -> anyhow::Result<()> {
         (None, Some(label)) => StyleSource::Label(label),
         (None, None) => StyleSource::Prior,
     };
-    let request = Request { source, setting, samples: args.samples, seed: args.seed, temperature: args.temperature };
+    let request = Request {
+        source,
+        setting,
+        samples: args.samples,
+        seed: args.seed,
+        temperature: args.temperature,
+        strength: args.strength,
+    };
     let motions = stylize::stylize(&weights, &content.motion, &request)?;
 
     let texts: Vec<String> = motions

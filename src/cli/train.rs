@@ -29,12 +29,16 @@ enum StageArgs {
     },
     /// The evaluation's style classifier, on the training takes only (`eval` uses it).
     Classifier(TrainOptions),
+    /// The evaluation's content classifier (the content classes, content-balanced), on the
+    /// training takes only (`eval --content-classifier` uses it).
+    ContentClassifier(TrainOptions),
 }
 
 pub fn run(args: TrainArgs) -> anyhow::Result<()> {
     let (options, stage) = match args.stage {
         StageArgs::Ae(options) => (options, Stage::Ae),
         StageArgs::Classifier(options) => (options, Stage::Classifier),
+        StageArgs::ContentClassifier(options) => (options, Stage::ContentClassifier),
         StageArgs::Stylizer { options, ae, unsupervised } => {
             (options, Stage::Stylizer { ae, supervised: !unsupervised })
         }

@@ -127,10 +127,4 @@ impl Corpus {
     pub fn norm_stats(&self) -> Result<NormStats, features::FeatureError> {
         NormStats::compute(self.train.iter().map(|c| &c.features))
     }
-
-    /// Total frames of the training clips (mirrors included) and of the held-out ones.
-    pub fn frames(&self) -> (usize, usize) {
-        let n = |v: &[Clip]| v.iter().map(|c| c.features.frames()).sum();
-        (n(&self.train), n(&self.heldout))
-    }
 }

@@ -98,3 +98,32 @@ mod tests {
         assert_eq!(Style::from_name("OLD").map(Style::name), Some("old"));
     }
 }
+
+/// The content classes of the evaluation's content classifier: every Bandai-Namco content with at
+/// least 10 takes, by name (set 1's and set 2's `walk` and `run` are one class each). Left out: the
+/// set-1 contents with 1–2 takes (`call`, `dance-short`, `kick`, `punch`, `respond`, `slash`).
+pub const CONTENTS: [&str; 18] = [
+    "bow",
+    "bye",
+    "byebye",
+    "dash",
+    "guide",
+    "run",
+    "walk",
+    "walk-back",
+    "walk-left",
+    "walk-right",
+    "raise-up-both-hands",
+    "raise-up-left-hand",
+    "raise-up-right-hand",
+    "walk-turn-left",
+    "walk-turn-right",
+    "wave-both-hands",
+    "wave-left-hand",
+    "wave-right-hand",
+];
+
+/// The content class of a take's content name (an index into [`CONTENTS`]), if it has one.
+pub fn content_class(content: &str) -> Option<usize> {
+    CONTENTS.iter().position(|c| *c == content)
+}

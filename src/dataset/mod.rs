@@ -8,5 +8,5 @@ pub mod corpus;
 pub mod labels;
 pub mod split;
 
-pub use labels::{STYLES, Style};
+pub use labels::{CONTENTS, STYLES, Style, content_class};
 pub use split::{Split, TakeId};

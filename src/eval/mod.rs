@@ -19,7 +19,7 @@ use anyhow::{Context, ensure};
 
 use crate::Motion;
 use crate::dataset::corpus::list_takes;
-use crate::dataset::{Split, TakeId};
+use crate::dataset::{Split, TakeId, content_class};
 use crate::skeleton;
 use protocol::Labelled;
 use shift::{Take, descriptors};
@@ -57,7 +57,12 @@ pub fn heldout_of(takes: &[(TakeId, Result<Motion, String>)], split: &Split) -> 
     let mut out = Vec::new();
     for (take, motion) in takes.iter().filter(|(t, _)| split.is_heldout(t)) {
         let motion = motion.clone().map_err(anyhow::Error::msg)?;
-        out.push(Labelled { name: take.stem(), motion, style: Some(take.style().index()) });
+        out.push(Labelled {
+            name: take.stem(),
+            motion,
+            style: Some(take.style().index()),
+            content: content_class(&take.content),
+        });
     }
     ensure!(!out.is_empty(), "no held-out takes of the split found among the takes");
     Ok(out)
@@ -89,6 +94,7 @@ pub fn load_contents(dir: &Path) -> anyhow::Result<(Vec<Labelled>, Vec<(PathBuf,
                 name: path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
                 motion: imported.motion,
                 style: None,
+                content: None,
             }),
             Err(e) => failed.push((path, e)),
         }

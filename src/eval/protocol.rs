@@ -45,14 +45,26 @@ pub struct Labelled {
     pub name: String,
     pub motion: Motion,
     pub style: Option<usize>,
+    /// Its content class ([`crate::dataset::CONTENTS`]), if known.
+    pub content: Option<usize>,
 }
 
 /// The settings (rows) in table order.
 pub const ROWS: [&str; 6] = ["real", "identity", "sup_motion", "sup_label", "unsup_motion", "unsup_prior"];
 
 /// The metrics (columns) in table order.
-pub const COLUMNS: [&str; 8] =
-    ["style_acc", "style_fid", "geodesic", "diversity", "diversity_cm", "foot_skate", "foot_skate_ref", "style_shift"];
+pub const COLUMNS: [&str; 10] = [
+    "style_acc",
+    "style_fid",
+    "geodesic",
+    "diversity",
+    "diversity_cm",
+    "foot_skate",
+    "foot_skate_ref",
+    "style_shift",
+    "content_acc",
+    "content_fid",
+];
 
 /// Inputs of an evaluation.
 pub struct Inputs<'a> {
@@ -66,6 +78,11 @@ pub struct Inputs<'a> {
     pub seed: u64,
     /// The styles' directions for `style_shift` (`None`: not measured).
     pub directions: Option<&'a Directions>,
+    /// The content classifier (`None`: no `content_acc`, `content_fid`).
+    pub content_judge: Option<&'a Judge>,
+    /// The stylizations' [`Request::strength`] and [`Request::temperature`].
+    pub strength: f32,
+    pub temperature: f32,
 }
 
 /// One row of the result: per metric, the mean over repeats and the 95 % half-width (`None`:
@@ -119,6 +136,12 @@ struct Tally {
     /// The same for the real motions the outputs are compared with (references of the target style).
     reference_skate: (f64, usize),
     shift: Vec<f64>,
+    /// Content classifier: outputs whose content class it predicts, of those with a class.
+    content_correct: usize,
+    content_judged: usize,
+    /// Content classifier features of the outputs and of their contents.
+    content_features: Vec<Vec<f32>>,
+    content_references: Vec<Vec<f32>>,
 }
 
 fn pool(into: &mut (f64, usize), (sum, count): (f64, usize)) {
@@ -140,6 +163,17 @@ impl Tally {
         self.references.push(reference.to_vec());
     }
 
+    /// The content classifier's judgement of an output whose content is `content` (`of_content`:
+    /// its judgement of the content itself).
+    fn judge_content(&mut self, j: Judgement, content: Option<usize>, of_content: &[f32]) {
+        if let Some(c) = content {
+            self.content_judged += 1;
+            self.content_correct += usize::from(j.predicted == c);
+        }
+        self.content_features.push(j.feature);
+        self.content_references.push(of_content.to_vec());
+    }
+
     fn per_repeat(&self) -> [Option<f64>; COLUMNS.len()] {
         let mean = |v: &[f64]| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
         [
@@ -151,6 +185,8 @@ impl Tally {
             pooled_mean(self.skate),
             pooled_mean(self.reference_skate),
             mean(&self.shift),
+            (self.content_judged > 0).then(|| self.content_correct as f64 / self.content_judged as f64),
+            fid(&self.content_features, &self.content_references),
         ]
     }
 }
@@ -180,6 +216,12 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
     let mut labels: Vec<LabelTally> = vec![BTreeMap::new(); ROWS.len()];
     let content_descriptors: Vec<_> =
         inputs.contents.iter().map(|c| inputs.directions.map(|_| descriptors(&c.motion))).collect();
+    // The content classifier's view of every content and held-out take, judged once.
+    let content_of = |motions: &mut dyn Iterator<Item = &Motion>| -> Vec<Option<Judgement>> {
+        motions.map(|m| inputs.content_judge.map(|j| j.judge(m))).collect()
+    };
+    let contents_judged = content_of(&mut inputs.contents.iter().map(|c| &c.motion));
+    let heldout_content = content_of(&mut inputs.heldout.iter().map(|h| &h.motion));
     for r in 0..inputs.repeats {
         let mut rng = ChaCha8Rng::seed_from_u64(inputs.seed ^ (r as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
         let mut tallies: Vec<Tally> = vec![Tally::default(); ROWS.len()];
@@ -191,11 +233,16 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
             let others: Vec<usize> = same.iter().copied().filter(|&k| k != i).collect();
             let pick = if others.is_empty() { i } else { others[below(&mut rng, others.len())] };
             tallies[0].judge(judged_heldout[i].clone(), Some(style), &judged_heldout[pick].feature);
+            // Content accuracy of the real takes (no content FID: they are the contents).
+            if let (Some(j), Some(c)) = (&heldout_content[i], h.content) {
+                tallies[0].content_judged += 1;
+                tallies[0].content_correct += usize::from(j.predicted == c);
+            }
             pool(&mut tallies[0].skate, heldout_skate[i]);
             pool(&mut tallies[0].reference_skate, heldout_skate[pick]);
         }
 
-        for (content, content_d) in inputs.contents.iter().zip(&content_descriptors) {
+        for ((content, content_d), content_j) in inputs.contents.iter().zip(&content_descriptors).zip(&contents_judged) {
             let candidates: Vec<usize> = styles.iter().copied().filter(|s| Some(*s) != content.style).collect();
             if candidates.is_empty() {
                 continue;
@@ -222,6 +269,9 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
                 entry.2.push(s);
             }
             tallies[1].judge(judged, Some(target), &ref_feature);
+            if let Some(j) = content_j {
+                tallies[1].judge_content(j.clone(), content.content, &j.feature);
+            }
             tallies[1].geodesic.push(0.0);
             pool(&mut tallies[1].skate, foot_skate_parts(&content.motion));
             pool(&mut tallies[1].reference_skate, reference_skate);
@@ -236,7 +286,11 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
                 if !inputs.weights.has(setting) {
                     continue;
                 }
-                let request = Request::new(source).with_setting(setting).with_seed(seed);
+                let request = Request::new(source)
+                    .with_setting(setting)
+                    .with_seed(seed)
+                    .with_strength(inputs.strength)
+                    .with_temperature(inputs.temperature);
                 let (output, pair) = if motion_based {
                     let mean = stylize::stylize(inputs.weights, &content.motion, &request)?.remove(0);
                     let draws = stylize::stylize(inputs.weights, &content.motion, &request.clone().with_samples(2))?;
@@ -258,6 +312,9 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
                 }
                 let target = (row != 5).then_some(target);
                 t.judge(judged, target, &ref_feature);
+                if let (Some(judge), Some(of_content)) = (inputs.content_judge, content_j) {
+                    t.judge_content(judge.judge(&output), content.content, &of_content.feature);
+                }
                 if let Some(g) = geodesic(&content.motion, &output) {
                     t.geodesic.push(g);
                 }

@@ -5,7 +5,7 @@
 use serde_json::{Map, Value, json};
 
 use super::protocol::{COLUMNS, Evaluation, Row};
-use super::shift::{DESCRIPTORS, Directions};
+use super::shift::{DESCRIPTORS, Direction, Directions};
 
 /// What was evaluated, recorded beside the rows.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -13,6 +13,8 @@ pub struct Provenance {
     pub command: String,
     pub weights: String,
     pub classifier: String,
+    /// The content classifier, if one was used.
+    pub content_classifier: Option<String>,
     /// `"heldout"` or the `--content` folder.
     pub contents: String,
     pub num_contents: usize,
@@ -63,6 +65,35 @@ pub fn to_json(
         json!({"descriptors": DESCRIPTORS, "spread": d.spread, "styles": styles})
     });
     json!({ "rows": rows, "labels": labels, "directions": directions, "provenance": provenance })
+}
+
+/// The directions back from [`to_json`]'s `"directions"` (as `make eval` commits them in
+/// `assets/eval/heldout.json`), style names resolved against `styles`; `None` if the value is not
+/// such an object, names descriptors other than [`DESCRIPTORS`] or a style `styles` lacks.
+pub fn directions_from_json(value: &Value, styles: &[String]) -> Option<Directions> {
+    let names: Vec<&str> = value.get("descriptors")?.as_array()?.iter().map(|v| v.as_str()).collect::<Option<_>>()?;
+    if names != DESCRIPTORS {
+        return None;
+    }
+    let numbers = |v: &Value| -> Option<Vec<f64>> { v.as_array()?.iter().map(Value::as_f64).collect() };
+    let spread = numbers(value.get("spread")?)?;
+    let styles = value
+        .get("styles")?
+        .as_array()?
+        .iter()
+        .map(|s| {
+            let name = s.get("style")?.as_str()?;
+            Some(Direction {
+                style: styles.iter().position(|x| x == name)?,
+                contents: usize::try_from(s.get("contents")?.as_u64()?).ok()?,
+                takes: usize::try_from(s.get("takes")?.as_u64()?).ok()?,
+                vector: numbers(s.get("vector")?).filter(|v| v.len() == DESCRIPTORS.len())?,
+                length: s.get("length")?.as_f64()?,
+                scored: s.get("scored")?.as_bool()?,
+            })
+        })
+        .collect::<Option<Vec<_>>>()?;
+    (spread.len() == DESCRIPTORS.len()).then_some(Directions { spread, styles })
 }
 
 /// Per target label: each row's style accuracy and style shift (`—`: not measured or the style is

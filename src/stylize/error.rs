@@ -45,6 +45,9 @@ pub enum StylizeError {
     /// A prior temperature that is not a finite number in [0, max].
     #[error("temperature must be between 0 and {max}, got {got}")]
     Temperature { got: f32, max: f32 },
+    /// A style strength that is not a finite number in [0, max].
+    #[error("strength must be between 0 and {max}, got {got}")]
+    Strength { got: f32, max: f32 },
     /// Style mixes nested deeper than the limit.
     #[error("style mixes are nested deeper than {max}")]
     MixTooDeep { max: usize },
@@ -68,7 +71,7 @@ pub enum StylizeError {
 impl StylizeError {
     /// A stable, machine-readable name of the failure class (the npm package's `error.code`):
     /// `UNKNOWN_LABEL`, `SETTING_UNAVAILABLE`, `BAD_REQUEST` (a request the model cannot serve:
-    /// samples, temperature, mix weight or depth, a label where none fits or none where one is needed),
+    /// samples, temperature, strength, mix weight or depth, a label where none fits or none where one is needed),
     /// `TOO_LONG`, `BAD_WEIGHTS`, `MODEL_OUTPUT`, `INTERNAL`, or the import's code
     /// ([`ImportError::code`]).
     pub fn code(&self) -> &'static str {
@@ -82,7 +85,8 @@ impl StylizeError {
             | Samples { .. }
             | MixWeight { .. }
             | MixTooDeep { .. }
-            | Temperature { .. } => "BAD_REQUEST",
+            | Temperature { .. }
+            | Strength { .. } => "BAD_REQUEST",
             TooLong { .. } => "TOO_LONG",
             BadWeights(_) | Read { .. } => "BAD_WEIGHTS",
             Import(e) => e.code(),

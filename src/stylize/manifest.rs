@@ -41,6 +41,24 @@ pub struct ModelEntry {
     pub width: f64,
     /// Training stages that produced it, in order (autoencoder first, then the stylizer).
     pub stages: Vec<StageRecord>,
+    /// Supervised model: where each label's real takes sit in its style space, the centre that
+    /// label-based codes are drawn around (written by `motion-stylizer label-codes`). Absent:
+    /// label-based codes are drawn around 0, the prior's mean.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub label_codes: Option<LabelCodes>,
+}
+
+/// Per label, the mean of the style encoder's posterior means over the label's training takes
+/// (each data set weighted equally where it has the label: set 1 has ~11 takes a style, set 2
+/// ~400), in one-hot order.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LabelCodes {
+    /// The exact command that wrote them.
+    pub command: String,
+    /// Training takes encoded, per label (one-hot order).
+    pub takes: Vec<usize>,
+    /// `[num_styles][style_dim]`.
+    pub codes: Vec<Vec<f32>>,
 }
 
 /// How one training stage ran.

@@ -36,6 +36,16 @@
 //! - **Temperature.** Prior draws (label- and prior-based) are scaled by
 //!   [`Request::temperature`] (default [`DEFAULT_TEMPERATURE`], measured: the paper's full-scale
 //!   `N(0, I)` draws miss the label far more often with our weights).
+//! - **Strength.** [`Request::strength`] `s` scales the change the stylizer makes in the motion
+//!   autoencoder's latent space: the decoder gets `z_c + s·(z − z_c)`, with `z` the generator's
+//!   latent and `z_c` the content's own (its encoding). 1 is the stylizer's output unchanged (the
+//!   same bits), 2 doubles the change ("exaggerated"), and 0 returns the content's motion itself
+//!   (not its reconstruction by the autoencoder). Extrapolating in the latent space rather than on
+//!   poses keeps the decoder's own motion prior (bone lengths, foot contacts, root from the
+//!   regressor): the style shift grows monotonically with `s` (tested on the shipped weights).
+//! - **Label codes.** Label-based codes are drawn around the label's centre in the style space
+//!   (the mean posterior of its training takes, [`Manifest`]'s `label_codes`), not around 0:
+//!   `centre + temperature · N(0, I)`; weights without label codes draw around 0.
 //! - **Mix.** [`StyleSource::Mix`] lerps two sources' style codes (and one-hot labels).
 //! - **Root.** Angular velocity from the content, ground velocity from the global motion
 //!   regressor on the generated motion, height from the decoder (paper §3.3); the output starts
@@ -54,7 +64,10 @@ pub mod source;
 pub mod weights;
 
 pub use error::StylizeError;
-pub use manifest::{Manifest, ModelEntry, StageRecord};
+pub use manifest::{LabelCodes, Manifest, ModelEntry, StageRecord};
 pub use pipeline::{MAX_FRAMES, infer_label, pad_features, padded_frames, style_code_of, stylize};
-pub use source::{DEFAULT_TEMPERATURE, MAX_MIX_DEPTH, MAX_SAMPLES, MAX_TEMPERATURE, Request, StyleSource};
+pub use source::{
+    DEFAULT_STRENGTH, DEFAULT_TEMPERATURE, MAX_MIX_DEPTH, MAX_SAMPLES, MAX_STRENGTH, MAX_TEMPERATURE, Request,
+    StyleSource,
+};
 pub use weights::{Setting, Weights};

@@ -16,7 +16,7 @@ use rand_chacha::ChaCha8Rng;
 use rand_chacha::rand_core::{RngCore, SeedableRng};
 
 use super::StylizeError;
-use super::source::{MAX_MIX_DEPTH, MAX_SAMPLES, MAX_TEMPERATURE, Request, StyleSource};
+use super::source::{MAX_MIX_DEPTH, MAX_SAMPLES, MAX_STRENGTH, MAX_TEMPERATURE, Request, StyleSource};
 use super::weights::{Setting, Weights};
 use super::{feet, legs};
 use crate::Motion;
@@ -201,7 +201,14 @@ impl Resolver<'_> {
             }
             StyleSource::Label(style) => {
                 let l = label_index(*style, self.model)?;
-                let code = self.draws.noise.normal_tensor(n, d, &device) * self.temperature;
+                let spread = self.draws.noise.normal_tensor(n, d, &device) * self.temperature;
+                let code = match self.weights.label_code(*style) {
+                    Some(centre) => {
+                        Tensor::<2>::from_data(TensorData::new(centre.to_vec(), [1, d]), &device).repeat_dim(0, n)
+                            + spread
+                    }
+                    None => spread,
+                };
                 Ok(Codes { code, label: Some(self.one_hot_rows(&vec![l; n])) })
             }
             StyleSource::Prior => {
@@ -246,16 +253,25 @@ pub fn stylize(weights: &Weights, content: &Motion, request: &Request<'_>) -> Re
     }
     validate(&request.source, model, 0)?;
 
-    let device = model.device().clone();
-    let prepared = prepare(weights.norm(), content, "content", &device)?;
-    let padded = prepared.tensor.dims()[2];
-    let content_code = model.content(model.encode(prepared.tensor.clone())?)?;
-    let angular = channels(prepared.tensor.clone(), ROOT_ANG_VEL);
-
     let n = request.samples;
     if !(request.temperature.is_finite() && (0.0..=MAX_TEMPERATURE).contains(&request.temperature)) {
         return Err(StylizeError::Temperature { got: request.temperature, max: MAX_TEMPERATURE });
     }
+    let strength = request.strength;
+    if !(strength.is_finite() && (0.0..=MAX_STRENGTH).contains(&strength)) {
+        return Err(StylizeError::Strength { got: strength, max: MAX_STRENGTH });
+    }
+
+    let device = model.device().clone();
+    let prepared = prepare(weights.norm(), content, "content", &device)?;
+    if strength == 0.0 {
+        // No style at all: the content itself (features extracted only to check it).
+        return Ok(vec![content.clone(); n]);
+    }
+    let padded = prepared.tensor.dims()[2];
+    let content_latent = model.encode(prepared.tensor.clone())?;
+    let content_code = model.content(content_latent.clone())?;
+    let angular = channels(prepared.tensor.clone(), ROOT_ANG_VEL);
     let mut resolver =
         Resolver { weights, model, samples: n, temperature: request.temperature, draws: Draws::new(request.seed) };
     let codes = resolver.resolve(&request.source)?;
@@ -271,6 +287,12 @@ pub fn stylize(weights: &Weights, content: &Motion, request: &Request<'_>) -> Re
         let code = codes.code.clone().narrow(0, start, rows);
         let label = codes.label.as_ref().map(|l| l.clone().narrow(0, start, rows));
         let latent = model.generate_with(content_code.clone().repeat_dim(0, rows), code, label)?;
+        let latent = if strength == 1.0 {
+            latent
+        } else {
+            let own = content_latent.clone().repeat_dim(0, rows);
+            own.clone() + (latent - own) * strength
+        };
         let features = model.with_root(model.decode(latent)?, angular.clone().repeat_dim(0, rows))?;
         let values = read_back(features)?;
         for sample in values.chunks_exact(DIM * padded) {

@@ -18,6 +18,12 @@ pub const DEFAULT_TEMPERATURE: f32 = 0.3;
 /// Largest accepted temperature.
 pub const MAX_TEMPERATURE: f32 = 4.0;
 
+/// Default style strength: the networks' output as it is.
+pub const DEFAULT_STRENGTH: f32 = 1.0;
+
+/// Largest accepted style strength ("exaggerated").
+pub const MAX_STRENGTH: f32 = 2.0;
+
 /// Deepest nesting of [`StyleSource::Mix`].
 pub const MAX_MIX_DEPTH: usize = 8;
 
@@ -73,12 +79,23 @@ pub struct Request<'a> {
     /// Scale of prior draws (label- and prior-based), in `[0, MAX_TEMPERATURE]`; see
     /// [`DEFAULT_TEMPERATURE`]. 1.0 is the paper's `N(0, I)`. Motion-based draws are unaffected.
     pub temperature: f32,
+    /// How far the output goes towards the style, in `[0, MAX_STRENGTH]`: 0 gives back the
+    /// content's motion, 1 ([`DEFAULT_STRENGTH`]) the stylizer's output, 2 twice the change (see
+    /// [`stylize`](super::stylize)).
+    pub strength: f32,
 }
 
 impl<'a> Request<'a> {
     /// One sample from `source` with the supervised model, seed 0.
     pub fn new(source: StyleSource<'a>) -> Self {
-        Request { source, setting: Setting::Supervised, samples: 1, seed: 0, temperature: DEFAULT_TEMPERATURE }
+        Request {
+            source,
+            setting: Setting::Supervised,
+            samples: 1,
+            seed: 0,
+            temperature: DEFAULT_TEMPERATURE,
+            strength: DEFAULT_STRENGTH,
+        }
     }
 
     pub fn with_setting(mut self, setting: Setting) -> Self {
@@ -98,6 +115,11 @@ impl<'a> Request<'a> {
 
     pub fn with_temperature(mut self, temperature: f32) -> Self {
         self.temperature = temperature;
+        self
+    }
+
+    pub fn with_strength(mut self, strength: f32) -> Self {
+        self.strength = strength;
         self
     }
 }

@@ -58,6 +58,9 @@ pub struct Weights {
     norm: NormStats,
     supervised: Option<Model>,
     unsupervised: Option<Model>,
+    /// The supervised model's label centres ([`manifest::LabelCodes`]), `num_styles × style_dim`
+    /// row-major, checked against the model.
+    label_codes: Option<Vec<f32>>,
 }
 
 fn bad(message: impl Into<String>) -> StylizeError {
@@ -115,12 +118,12 @@ impl Weights {
             let (config, model) = load_bundle(bytes, &Device::flex()).map_err(|e| context(e.into()))?;
             Ok(Some(Model::new(config, model.to_device(device))))
         };
-        Ok(Weights {
-            supervised: load(supervised, Setting::Supervised)?,
-            unsupervised: load(unsupervised, Setting::Unsupervised)?,
-            manifest,
-            norm,
-        })
+        let supervised = load(supervised, Setting::Supervised)?;
+        let label_codes = match (&supervised, label_codes_of(&manifest)) {
+            (Some(model), Some(codes)) => Some(check_label_codes(codes, model)?),
+            _ => None,
+        };
+        Ok(Weights { supervised, unsupervised: load(unsupervised, Setting::Unsupervised)?, manifest, norm, label_codes })
     }
 
     /// Reads the weights folder `dir` (native builds only): `manifest.json`, the statistics file
@@ -188,6 +191,14 @@ impl Weights {
         [Setting::Supervised, Setting::Unsupervised].into_iter().filter(|&s| self.has(s)).collect()
     }
 
+    /// Where label `style`'s real takes sit in the supervised model's style space (the centre
+    /// label-based codes are drawn around), if the manifest has the label codes.
+    pub fn label_code(&self, style: Style) -> Option<&[f32]> {
+        let codes = self.label_codes.as_deref()?;
+        let dim = self.supervised.as_ref()?.config.style_dim;
+        codes.get(style.index() * dim..(style.index() + 1) * dim)
+    }
+
     /// The inference model of `setting`.
     pub fn model(&self, setting: Setting) -> Result<&Model, StylizeError> {
         match setting {
@@ -196,6 +207,29 @@ impl Weights {
         }
         .ok_or(StylizeError::SettingUnavailable { setting })
     }
+}
+
+/// The supervised entry's label codes, if the manifest has them.
+fn label_codes_of(manifest: &Manifest) -> Option<&manifest::LabelCodes> {
+    manifest
+        .models
+        .iter()
+        .find(|m| Setting::from_name(&m.setting) == Some(Setting::Supervised))
+        .and_then(|m| m.label_codes.as_ref())
+}
+
+/// The label codes flattened, after checking them against the model: one finite row of
+/// `style_dim` numbers per label.
+fn check_label_codes(codes: &manifest::LabelCodes, model: &Model) -> Result<Vec<f32>, StylizeError> {
+    let (labels, dim) = (model.config.num_styles, model.config.style_dim);
+    if codes.codes.len() != labels || codes.codes.iter().any(|row| row.len() != dim) {
+        return Err(bad(format!("the label codes are not {labels} rows of {dim} numbers (the supervised model's)")));
+    }
+    let flat: Vec<f32> = codes.codes.concat();
+    if flat.iter().any(|v| !v.is_finite()) {
+        return Err(bad("the label codes hold a number that is not finite"));
+    }
+    Ok(flat)
 }
 
 /// Checks a bundle's config before any network is built from it: the setting and the label count

@@ -105,7 +105,7 @@ impl Trainer for ClassifierTrainer {
         let windows: Vec<_> = (0..data.batch).map(|_| data.sampler.pair(rng)).collect();
         let labels: Vec<usize> = windows.iter().map(|w| w.2).collect();
         let first: Vec<_> = windows.iter().map(|w| w.0).collect();
-        debug_assert!(first.iter().zip(&labels).all(|(w, l)| data.styles[w.clip] == *l));
+        debug_assert!(first.iter().zip(&labels).all(|(w, l)| data.labels[w.clip] == *l));
         let x = batch_tensor(&data.clips, &first, data.window, &data.device);
         Ok(self.step(x, &labels)?)
     }

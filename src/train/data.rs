@@ -10,19 +10,21 @@ use super::rundir::RunConfig;
 use super::sampler::WindowSampler;
 use super::settings::TrainOptions;
 use crate::dataset::corpus::{self, Clip};
-use crate::dataset::{STYLES, Split};
+use crate::dataset::{CONTENTS, STYLES, Split, content_class};
 use crate::features::{Features, NormStats};
 
 /// Everything a trainer draws its batches from and evaluates on.
 pub struct TrainData {
-    /// Normalised training clips (takes and mirrors) and their style labels.
+    /// Normalised training clips (takes and mirrors) and each one's class, which the sampler
+    /// balances: its style label, or for the content classifier its content class
+    /// ([`crate::dataset::CONTENTS`]; takes of other contents are left out).
     pub clips: Vec<Features>,
-    pub styles: Vec<usize>,
+    pub labels: Vec<usize>,
     pub sampler: WindowSampler,
     /// The fixed held-out windows and pairs.
     pub heldout: HeldoutSet,
-    /// Whole held-out takes, normalised, with their labels: the classifier's evaluation (empty for
-    /// the other stages).
+    /// Whole held-out takes, normalised, with their classes: the classifiers' evaluation (empty
+    /// for the other stages).
     pub heldout_takes: Vec<(Features, usize)>,
     pub norm: NormStats,
     pub batch: usize,
@@ -73,14 +75,23 @@ impl TrainData {
             None => corpus.norm_stats().context("normalisation statistics")?,
         };
         let window = config.settings.window;
-        let clips = normalized(&corpus.train, &norm);
-        let styles: Vec<usize> = corpus.train.iter().map(|c| c.style.index()).collect();
+        // The class each clip is balanced and judged by.
+        let contents = config.stage == "content-classifier";
+        let class = |c: &Clip| if contents { content_class(&c.take.content) } else { Some(c.style.index()) };
+        let (train, heldout_clips): (Vec<Clip>, Vec<Clip>) = if contents {
+            let keep = |v: &[Clip]| v.iter().filter(|c| class(c).is_some()).cloned().collect::<Vec<_>>();
+            (keep(&corpus.train), keep(&corpus.heldout))
+        } else {
+            (corpus.train.clone(), corpus.heldout.clone())
+        };
+        let clips = normalized(&train, &norm);
+        let labels: Vec<usize> = train.iter().filter_map(class).collect();
         let frames: Vec<usize> = clips.iter().map(Features::frames).collect();
-        let sampler = WindowSampler::new(&frames, &styles, window);
+        let sampler = WindowSampler::new(&frames, &labels, window);
         ensure!(sampler.eligible() > 0, "no training take has {window} frames or more (--window {window})");
-        let heldout = HeldoutSet::new(&corpus.heldout, &norm, window, opts.eval_windows);
-        let heldout_takes = if config.stage == "classifier" {
-            normalized(&corpus.heldout, &norm).into_iter().zip(corpus.heldout.iter().map(|c| c.style.index())).collect()
+        let heldout = HeldoutSet::new(&heldout_clips, &norm, window, opts.eval_windows);
+        let heldout_takes = if config.stage.ends_with("classifier") {
+            normalized(&heldout_clips, &norm).into_iter().zip(heldout_clips.iter().filter_map(class)).collect()
         } else {
             Vec::new()
         };
@@ -89,12 +100,13 @@ impl TrainData {
         config.eval_windows = heldout.len();
         config.heldout_skipped = heldout.skipped;
 
-        let (train_frames, heldout_frames) = corpus.frames();
+        let frames_of = |v: &[Clip]| v.iter().map(|c| c.features.frames()).sum::<usize>();
+        let (train_frames, heldout_frames) = (frames_of(&train), frames_of(&heldout_clips));
         say(format!(
             "data: {} training clips (takes + mirrors, {train_frames} frames), {} held-out takes ({heldout_frames} \
              frames), loaded in {:.1} s",
-            corpus.train.len(),
-            corpus.heldout.len(),
+            train.len(),
+            heldout_clips.len(),
             t_load.elapsed().as_secs_f64()
         ));
         say(format!(
@@ -106,13 +118,16 @@ impl TrainData {
             heldout.len(),
             heldout.skipped
         ));
-        if config.stage != "ae" {
+        if contents {
+            let names: Vec<String> = sampler.styles().iter().map(|(s, n)| format!("{} {n}", CONTENTS[*s])).collect();
+            say(format!("content classes (clips): {}", names.join(", ")));
+        } else if config.stage != "ae" {
             let names: Vec<String> = sampler.styles().iter().map(|(s, n)| format!("{} {n}", STYLES[*s])).collect();
             say(format!("styles (clips): {}", names.join(", ")));
         }
         Ok(TrainData {
             clips,
-            styles,
+            labels,
             sampler,
             heldout,
             heldout_takes,

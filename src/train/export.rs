@@ -100,6 +100,8 @@ pub fn export(sup: &Path, unsup: &Path, ae: &Path, out: &Path) -> anyhow::Result
             file,
             width: config.settings.width,
             stages: vec![stage_record(ae, &ae_config, ae_ckpt.meta.step)?, stage_record(dir, &config, ckpt.meta.step)?],
+            // New networks: `motion-stylizer label-codes` computes them for these.
+            label_codes: None,
         });
     }
 

@@ -43,6 +43,7 @@ pub mod ae;
 pub mod classifier;
 pub mod data;
 pub mod eval;
+pub mod label_codes;
 pub mod export;
 pub mod logs;
 pub mod losses;
@@ -87,6 +88,9 @@ pub enum Stage {
     Stylizer { ae: Option<PathBuf>, supervised: bool },
     /// The evaluation's style classifier (training takes only; see [`classifier`]).
     Classifier,
+    /// The evaluation's content classifier: the same network and training on the content classes
+    /// ([`crate::dataset::CONTENTS`]) instead of the styles, content-balanced.
+    ContentClassifier,
 }
 
 impl Stage {
@@ -95,7 +99,13 @@ impl Stage {
             Stage::Ae => "ae",
             Stage::Stylizer { .. } => "stylizer",
             Stage::Classifier => "classifier",
+            Stage::ContentClassifier => "content-classifier",
         }
+    }
+
+    /// The classifier stages: judged on whole held-out takes.
+    pub fn is_classifier(&self) -> bool {
+        matches!(self, Stage::Classifier | Stage::ContentClassifier)
     }
 }
 
@@ -158,7 +168,7 @@ pub fn train(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<TrainSummary>
             let trainer = StylizerTrainer::new(model, train, nets.autoencoder, &device, seed);
             runner::run(trainer, &data, config, opts, start, &say)
         }
-        Stage::Classifier => {
+        Stage::Classifier | Stage::ContentClassifier => {
             runner::run(ClassifierTrainer::new(model, train, &device, seed), &data, config, opts, start, &say)
         }
     }

@@ -26,7 +26,7 @@ use super::Stage;
 pub use super::logs::{CsvLog, CsvTable, RunLog, Segment, machine_description, unix_now};
 use super::sampler::RngState;
 use super::settings::{Settings, TrainConfig, TrainOptions};
-use crate::dataset::STYLES;
+use crate::dataset::{CONTENTS, STYLES};
 use crate::features::NormStats;
 use crate::model::ModelConfig;
 use crate::model::weights::{FrameError, frame, unframe};
@@ -256,6 +256,17 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
         Stage::Classifier => OpenRun {
             config: RunConfig {
                 sampler: "style-balanced: a style uniformly, a clip of it uniformly, a window of that clip".into(),
+                ..base
+            },
+            resume_from: None,
+            ae: None,
+            norm: None,
+        },
+        Stage::ContentClassifier => OpenRun {
+            config: RunConfig {
+                model: base.model.clone().with_num_styles(CONTENTS.len()),
+                sampler: "content-balanced: a content class uniformly, a clip of it uniformly, a window of that clip"
+                    .into(),
                 ..base
             },
             resume_from: None,

@@ -208,7 +208,7 @@ impl Trainer for StylizerTrainer {
         let pairs: Vec<_> = (0..data.batch).map(|_| data.sampler.pair(rng)).collect();
         let first: Vec<_> = pairs.iter().map(|p| p.0).collect();
         let second: Vec<_> = pairs.iter().map(|p| p.1).collect();
-        debug_assert!(pairs.iter().all(|p| data.styles[p.0.clip] == p.2));
+        debug_assert!(pairs.iter().all(|p| data.labels[p.0.clip] == p.2));
         let batch = StylizerBatch {
             motion1: batch_tensor(&data.clips, &first, data.window, &data.device),
             motion2: batch_tensor(&data.clips, &second, data.window, &data.device),

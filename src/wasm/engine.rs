@@ -67,10 +67,11 @@ impl Engine {
     }
 
     /// Stylizes `content` with the style of `style`. `options` (each property optional, as is the
-    /// object): `{ unsupervised, samples, seed, canonical, temperature }`: `samples` outputs (1–64,
-    /// default 1) from `seed` (a non-negative safe integer or a BigInt below 2^64, default 0), with
-    /// the unsupervised model or the supervised one (default), each on the canonical rig or the
-    /// content's own (default), prior draws scaled by `temperature` (default the library's).
+    /// object): `{ unsupervised, samples, seed, canonical, temperature, strength }`: `samples`
+    /// outputs (1–64, default 1) from `seed` (a non-negative safe integer or a BigInt below 2^64,
+    /// default 0), with the unsupervised model or the supervised one (default), each on the
+    /// canonical rig or the content's own (default), prior draws scaled by `temperature` (default
+    /// the library's), the style's change scaled by `strength` (0–2, default 1; 0 is the content).
     /// Errors: see [`crate::stylize::StylizeError::code`], and `BAD_REQUEST` for options of the
     /// wrong type and `samples` or `seed` values that are not integers in range.
     pub fn stylize(
@@ -86,7 +87,8 @@ impl Engine {
             .with_setting(setting)
             .with_samples(options.samples)
             .with_seed(options.seed)
-            .with_temperature(options.temperature);
+            .with_temperature(options.temperature)
+            .with_strength(options.strength);
         let motions = stylize::stylize(&self.weights, &content.motion, &request).map_err(|e| stylize_error(&e))?;
         Ok(motions
             .iter()

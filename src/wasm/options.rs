@@ -4,9 +4,9 @@
 use wasm_bindgen::JsValue;
 
 use super::error::bad_request;
-use crate::stylize::DEFAULT_TEMPERATURE;
+use crate::stylize::{DEFAULT_STRENGTH, DEFAULT_TEMPERATURE};
 
-/// `{ unsupervised, samples, seed, canonical, temperature }`; a property that is `undefined` (or
+/// `{ unsupervised, samples, seed, canonical, temperature, strength }`; a property that is `undefined` (or
 /// `null`, or an options object that is `undefined`) takes its default.
 #[derive(Debug, PartialEq)]
 pub(super) struct StylizeOptions {
@@ -20,6 +20,9 @@ pub(super) struct StylizeOptions {
     pub canonical: bool,
     /// Scale of prior draws (the pipeline refuses values outside [0, 4]). Default the library's.
     pub temperature: f32,
+    /// How far towards the style: 0 the content, 1 the default, 2 exaggerated (the pipeline
+    /// refuses values outside [0, 2]).
+    pub strength: f32,
 }
 
 impl StylizeOptions {
@@ -34,7 +37,8 @@ impl StylizeOptions {
             samples: count(&get("samples")?)?,
             seed: seed(&get("seed")?)?,
             canonical: flag(&get("canonical")?, "canonical")?,
-            temperature: temperature(&get("temperature")?)?,
+            temperature: number(&get("temperature")?, "temperature", DEFAULT_TEMPERATURE, "[0, 4]")?,
+            strength: number(&get("strength")?, "strength", DEFAULT_STRENGTH, "[0, 2]")?,
         })
     }
 }
@@ -91,10 +95,11 @@ fn seed(value: &JsValue) -> Result<u64, JsValue> {
     Err(bad_request("seed must be a number or a BigInt"))
 }
 
-/// A number, range-checked by the pipeline (`BAD_REQUEST` there, outside [0, 4] or not finite).
-fn temperature(value: &JsValue) -> Result<f32, JsValue> {
+/// A number (`default` when absent), range-checked by the pipeline (`BAD_REQUEST` there, outside
+/// `range` or not finite).
+fn number(value: &JsValue, name: &str, default: f32, range: &str) -> Result<f32, JsValue> {
     if absent(value) {
-        return Ok(DEFAULT_TEMPERATURE);
+        return Ok(default);
     }
-    value.as_f64().map(|t| t as f32).ok_or_else(|| bad_request("temperature must be a number in [0, 4]"))
+    value.as_f64().map(|t| t as f32).ok_or_else(|| bad_request(&format!("{name} must be a number in {range}")))
 }

@@ -82,9 +82,13 @@ test('stylize: every style source; seeds are deterministic', async () => {
     assert.deepEqual(a, await bvh({ ...o, seed: 9n, samples: 2 }), 'a BigInt seed is the same seed');
   }
   assert.notDeepEqual(await bvh({ label: 'old', seed: 1 }), await bvh({ label: 'old', seed: 2 }));
-  // Temperature 0: the label's zero code, whatever the seed; the default is 0.3.
+  // Temperature 0: the label's centre code, whatever the seed; the default is 0.3.
   assert.deepEqual(await bvh({ label: 'old', seed: 1, temperature: 0 }), await bvh({ label: 'old', seed: 2, temperature: 0 }));
   assert.deepEqual(await bvh({ label: 'old', seed: 1 }), await bvh({ label: 'old', seed: 1, temperature: 0.3 }));
+  // Strength: 0 is the content whatever the style, 1 the default, 2 another motion.
+  assert.deepEqual(await bvh({ label: 'old', strength: 0 }), await bvh({ label: 'sad', seed: 3, strength: 0 }));
+  assert.deepEqual(await bvh({ label: 'old', seed: 1, strength: 1 }), await bvh({ label: 'old', seed: 1 }));
+  assert.notDeepEqual(await bvh({ label: 'old', seed: 1, strength: 2 }), await bvh({ label: 'old', seed: 1 }));
   // A mix at t = 0 is its first source.
   assert.deepEqual(await bvh({ mix: { a: { label: 'old' }, b: { label: 'sad' }, t: 0 }, seed: 4 }), await bvh({ label: 'old', seed: 4 }));
 });
@@ -128,6 +132,9 @@ test('errors: stable codes', async () => {
   await rejects(() => s.stylize(content, { label: 'old', rig: 'mine' }), 'BAD_REQUEST');
   await rejects(() => s.stylize(content, { label: 'old', temperature: 5 }), 'BAD_REQUEST');
   await rejects(() => s.stylize(content, { label: 'old', temperature: '1' }), 'BAD_REQUEST');
+  await rejects(() => s.stylize(content, { label: 'old', strength: 2.5 }), 'BAD_REQUEST');
+  await rejects(() => s.stylize(content, { label: 'old', strength: -1 }), 'BAD_REQUEST');
+  await rejects(() => s.stylize(content, { label: 'old', strength: '1' }), 'BAD_REQUEST');
   await rejects(() => s.stylize(content, { mix: { a: { label: 'old' }, b: { label: 'sad' }, t: 2 } }), 'BAD_REQUEST');
   await rejects(() => s.stylize(content, { mix: { a: { label: 'old' }, t: 0.5 } }), 'BAD_REQUEST');
   let deep = { prior: true };

@@ -20,6 +20,7 @@ const REF = fixture('bandai/dataset-2_walk_elderly_001_f120.bvh');
 const MODES = [
   { name: 'label', cli: ['--label', 'old'], js: { label: 'old' } },
   { name: 'label, temperature 1', cli: ['--label', 'tired', '--temperature', '1'], js: { label: 'tired', temperature: 1 } },
+  { name: 'label, strength 1.6', cli: ['--label', 'angry', '--strength', '1.6'], js: { label: 'angry', strength: 1.6 } },
   { name: 'label, canonical rig', cli: ['--label', 'proud', '--canonical'], js: { label: 'proud', rig: 'canonical' } },
   { name: 'motion + label', cli: ['--style-motion', REF, '--label', 'old'], js: { styleMotion: read(REF), label: 'old' } },
   { name: 'motion, unsupervised', cli: ['--style-motion', REF, '--unsupervised'], js: { styleMotion: read(REF), unsupervised: true } },

@@ -87,6 +87,7 @@ pub fn manifest() -> Manifest {
         file: format!("{setting}.bin"),
         width: WIDTH,
         stages: vec![stage("ae"), stage("stylizer")],
+        label_codes: None,
     };
     Manifest {
         format: motion_stylizer::stylize::manifest::FORMAT,

@@ -109,6 +109,13 @@ test('upload a fixture, stylize by label, views move, download a BVH that parses
   assert.match(await page.textContent('#content-info'), /m21 rig, 21 joints · 162 frames at 60 fps/);
   await page.selectOption('#label', 'proud');
   await page.fill('#seed', '5');
+  // The strength slider (exaggerated), before the first stylization.
+  await page.$eval('#strength', (e) => {
+    e.value = '1.5';
+    e.dispatchEvent(new Event('input', { bubbles: true }));
+    e.dispatchEvent(new Event('change', { bubbles: true }));
+  });
+  assert.equal(await page.textContent('#strength-label'), '1.50');
   await stylize(page);
   assert.match(await page.textContent('#status'), /Stylized as “proud”/);
 
@@ -153,6 +160,7 @@ test('upload a fixture, stylize by label, views move, download a BVH that parses
   assert.match(await other.textContent('#content-info'), /m21_walk\.bvh/);
   assert.equal(await other.inputValue('#label'), 'proud');
   assert.equal(await other.inputValue('#seed'), '5');
+  assert.equal(await other.inputValue('#strength'), '1.5');
   const again = await download(other);
   assert.equal(again.text, uploadedBvh);
   await other.context().close();

@@ -231,8 +231,11 @@ el('stylize').addEventListener('click', stylize);
 document.querySelector('.panel').addEventListener('change', syncControls);
 el('mix-t').addEventListener('input', syncControls);
 el('temperature').addEventListener('input', syncControls);
-// The mix slider restyles as it is released (one request at a time; the latest position wins).
+el('strength').addEventListener('input', syncControls);
+// The mix and strength sliders restyle as they are released (one request at a time; the latest
+// position wins).
 el('mix-t').addEventListener('change', () => state.made && stylize());
+el('strength').addEventListener('change', () => state.made && stylize());
 
 // ---------- download, share ----------
 

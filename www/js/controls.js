@@ -33,6 +33,7 @@ export function readControls() {
     seed: Math.max(0, Math.min(4294967295, Math.floor(Number(el('seed').value) || 0))),
     samples: Math.max(1, Math.min(8, Math.floor(Number(el('samples').value) || 1))),
     temperature: Number(el('temperature').value),
+    strength: Number(el('strength').value),
     rig: el('rig').value,
   };
 }
@@ -55,6 +56,7 @@ export function writeControls(c) {
   el('seed').value = String(c.seed);
   el('samples').value = String(c.samples);
   el('temperature').value = String(c.temperature);
+  el('strength').value = String(c.strength);
   syncControls();
 }
 
@@ -77,6 +79,7 @@ export function syncControls() {
   }
   el('mix-t-label').textContent = Number(el('mix-t').value).toFixed(2);
   el('temperature-label').textContent = Number(el('temperature').value).toFixed(2);
+  el('strength-label').textContent = Number(el('strength').value).toFixed(2);
 }
 
 /** Whether the controls use the reference motion. */
@@ -94,7 +97,7 @@ export function requestOf(c) {
   let source;
   if (c.mode === 'mix') source = { kind: 'mix', a: part(c.mixA), b: part(c.mixB), t: c.t };
   else source = part({ kind: c.mode, label: c.label });
-  return { source, unsupervised, samples: c.samples, seed: c.seed, temperature: c.temperature, rig: 'content' };
+  return { source, unsupervised, samples: c.samples, seed: c.seed, temperature: c.temperature, strength: c.strength, rig: 'content' };
 }
 
 /** A short name of the style (file names, captions). */

@@ -1,5 +1,5 @@
 // Share links: everything needed to reproduce a result (the motions — a sample's id, or the BVH
-// text compressed —, style source, model, labels, seed, samples, temperature, mix t, the picked
+// text compressed —, style source, model, labels, seed, samples, temperature, strength, mix t, the picked
 // sample, and a fingerprint of the weights that made it) as JSON, deflate-raw compressed and base64url-encoded into the URL fragment (#s=...).
 // Decoding is defensive: size limits before and while inflating, and every field validated; the
 // BVH text itself is validated later by the package's importer.
@@ -104,6 +104,8 @@ export async function decodeState(hash, sampleIds) {
     seed: Math.floor(number(raw.seed, 0, 4294967295, 0)),
     samples: Math.floor(number(raw.samples, 1, 8, 1)),
     temperature: number(raw.temperature, 0, 4, 0.3),
+    // Links from before the strength control reproduce the default, 1.
+    strength: number(raw.strength, 0, 2, 1),
     pick: Math.floor(number(raw.pick, 0, 7, 0)),
     rig: oneOf(raw.rig, ['content', 'canonical'], 'content'),
     weights: typeof raw.weights === 'string' && /^[0-9a-f]{8}$/.test(raw.weights) ? raw.weights : null,

@@ -84,14 +84,14 @@ const ops = {
     };
   },
 
-  async stylize({ source, unsupervised, samples, seed, temperature, rig, only }) {
+  async stylize({ source, unsupervised, samples, seed, temperature, strength, rig, only }) {
     const content = slots.get('content');
     if (!content) throw coded('BAD_REQUEST', 'load a content motion first');
     const t0 = performance.now();
     const needsLabel = (src) => (src?.kind === 'mix' ? needsLabel(src.a) || needsLabel(src.b) : src?.kind === 'motion' && !src.label);
     const ref = slots.get('ref');
     const inferredLabel = !unsupervised && ref && needsLabel(source) ? stylizer.inferLabel(ref) : undefined;
-    const outputs = await stylizer.stylize(content, { ...styleOf(source, inferredLabel), unsupervised, samples, seed, temperature, rig });
+    const outputs = await stylizer.stylize(content, { ...styleOf(source, inferredLabel), unsupervised, samples, seed, temperature, strength, rig });
     const ms = performance.now() - t0;
     const picked = only == null ? outputs : [outputs[only]];
     const result = picked.map((o) => ({

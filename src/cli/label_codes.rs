@@ -1,0 +1,118 @@
+//! `motion-stylizer label-codes --data data`: see [`motion_stylizer::train::label_codes`].
+
+use std::path::PathBuf;
+
+use anyhow::Context;
+use clap::Args;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use motion_stylizer::dataset::Split;
+use motion_stylizer::eval::import_takes;
+use motion_stylizer::stylize::Manifest;
+
+#[derive(Args, Debug)]
+pub struct LabelCodesArgs {
+    /// Folder with both Bandai-Namco archives unpacked (DIR/dataset-1, DIR/dataset-2): the
+    /// training takes (those not in the split) are encoded.
+    #[arg(long, value_name = "DIR")]
+    data: PathBuf,
+    /// Weights folder whose manifest.json gets the supervised model's label codes. Default:
+    /// assets/weights in the crate.
+    #[arg(long, value_name = "DIR")]
+    weights: Option<PathBuf>,
+    /// Held-out split file (its takes are left out).
+    #[arg(long, default_value = "assets/split/heldout.txt", value_name = "FILE")]
+    split: PathBuf,
+}
+
+pub fn run(args: &LabelCodesArgs) -> anyhow::Result<()> {
+    let dir = args.weights.clone().unwrap_or_else(super::stylize::default_weights_dir);
+    let weights = super::stylize::load_weights(&dir)?;
+    let split_text = super::read_text(&args.split)?;
+    let split = Split::parse(&split_text).with_context(|| format!("split file {}", args.split.display()))?;
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    eprintln!("importing the training takes under {}", args.data.display());
+    let imported = import_takes(&args.data, threads, |t| !split.is_heldout(t))?;
+    let mut takes = Vec::with_capacity(imported.len());
+    for (take, motion) in &imported {
+        match motion {
+            Ok(m) => takes.push((take.clone(), m)),
+            Err(e) => eprintln!("warning: skipped {e}"),
+        }
+    }
+    anyhow::ensure!(!takes.is_empty(), "no training take under {}", args.data.display());
+    let bar = ProgressBar::with_draw_target(Some(takes.len() as u64), ProgressDrawTarget::stderr());
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} takes | ETA {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let command = format!(
+        "motion-stylizer label-codes --data {} --split {}",
+        args.data.display(),
+        args.split.display()
+    );
+    let codes = motion_stylizer::train::label_codes::label_codes(&weights, &takes, command, |done, _| {
+        bar.set_position(done as u64)
+    })?;
+    bar.finish_and_clear();
+
+    let path = dir.join("manifest.json");
+    let mut manifest: Manifest = serde_json::from_str(&super::read_text(&path)?)
+        .with_context(|| format!("{} is not a weights manifest", path.display()))?;
+    let entry = manifest
+        .models
+        .iter_mut()
+        .find(|m| m.setting == "supervised")
+        .context("the manifest lists no supervised model")?;
+    eprintln!("{} training takes encoded; per label: {:?}", takes.len(), codes.takes);
+    entry.label_codes = Some(codes);
+    super::write_text(&path, &(compact_number_arrays(&serde_json::to_string_pretty(&manifest)?) + "\n"))?;
+    eprintln!("label codes -> {}", path.display());
+    Ok(())
+}
+
+/// Pretty JSON with every array of plain numbers on one line (the label codes: 16 lines, not
+/// 4,000); the same JSON value.
+fn compact_number_arrays(pretty: &str) -> String {
+    let mut out: Vec<String> = Vec::new();
+    // The lines of an array that may hold only numbers: its opening line, then its elements.
+    let mut held: Vec<&str> = Vec::new();
+    for line in pretty.lines() {
+        let t = line.trim();
+        if !held.is_empty() {
+            if t.trim_end_matches(',').parse::<f64>().is_ok() {
+                held.push(line);
+                continue;
+            }
+            if t.starts_with(']') && held.len() > 1 {
+                let items: Vec<&str> = held[1..].iter().map(|l| l.trim()).collect();
+                out.push(format!("{}{}{t}", held[0], items.join(" ")));
+                held.clear();
+                continue;
+            }
+            out.extend(held.drain(..).map(str::to_string));
+        }
+        if t.ends_with('[') {
+            held.push(line);
+        } else {
+            out.push(line.to_string());
+        }
+    }
+    out.extend(held.into_iter().map(str::to_string));
+    out.join("\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::compact_number_arrays;
+
+    #[test]
+    fn number_arrays_go_on_one_line_and_the_value_is_kept() {
+        let value = serde_json::json!({"a": [1.5, -2, 3e-4], "b": [{"c": [1, 2]}, []], "d": [["x", 1]], "e": "["});
+        let pretty = serde_json::to_string_pretty(&value).unwrap();
+        let compact = compact_number_arrays(&pretty);
+        assert!(compact.contains("\"a\": [1.5, -2, 0.0003]"), "{compact}");
+        assert!(compact.contains("\"c\": [1, 2]"), "{compact}");
+        assert_eq!(serde_json::from_str::<serde_json::Value>(&compact).unwrap(), value);
+        assert!(compact.lines().count() < pretty.lines().count());
+    }
+}
