@@ -387,8 +387,7 @@ fn label_codes_centre_the_label_based_draws() {
     refused(with_codes(vec![vec![0.0; dim + 1]; STYLES.len()]));
     // A number beyond f32 (JSON has no NaN or infinity) is refused when the manifest is read.
     let mut m = serde_json::to_value(manifest()).unwrap();
-    m["models"][0]["label_codes"] =
-        serde_json::json!({"command": "test", "takes": vec![1; STYLES.len()], "codes": vec![vec![1e39; dim]; STYLES.len()]});
+    m["models"][0]["label_codes"] = serde_json::json!({"command": "test", "takes": vec![1; STYLES.len()], "codes": vec![vec![1e39; dim]; STYLES.len()]});
     let err = Weights::from_bytes(&serde_json::to_vec(&m).unwrap(), &f.norm, Some(&f.supervised), None).unwrap_err();
     assert!(matches!(&err, StylizeError::BadWeights(msg) if msg.contains("out of range")), "{err:?}");
 }

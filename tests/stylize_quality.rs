@@ -109,8 +109,13 @@ fn stylized_walks_keep_their_feet_planted_without_popping_legs() {
         skates.push(skate);
         assert!(skate <= content_skate, "{name}: feet slide {skate:.1} cm/s, the real walk {content_skate:.1}");
         let step = max_leg_step(&out);
-        eprintln!("{name}: foot skating {skate:.1} cm/s (real {content_skate:.1}), largest leg turn {step:.1}°/frame (real {content_step:.1})");
-        assert!(step <= content_step + 5.0, "{name}: a leg turns {step:.1}° in a frame, the real walk {content_step:.1}°");
+        eprintln!(
+            "{name}: foot skating {skate:.1} cm/s (real {content_skate:.1}), largest leg turn {step:.1}°/frame (real {content_step:.1})"
+        );
+        assert!(
+            step <= content_step + 5.0,
+            "{name}: a leg turns {step:.1}° in a frame, the real walk {content_step:.1}°"
+        );
     }
     let mean = skates.iter().sum::<f64>() / skates.len() as f64;
     assert!(mean <= 0.8 * content_skate, "feet slide {mean:.1} cm/s on average, the real walk {content_skate:.1}");
@@ -173,7 +178,10 @@ fn style_shift_grows_with_the_strength() {
         assert_eq!(at(1.0), stylize::stylize(&w, &content, &request).unwrap().remove(0), "{name}: 1 is the default");
         let shifts: Vec<f64> = [0.0, 0.5, 1.0, 1.5, 2.0].iter().map(|&s| shift(&w, "old", &content, &at(s))).collect();
         eprintln!("{name}: shifts at strength 0, 0.5, 1, 1.5, 2: {shifts:.2?}");
-        assert!(shifts.windows(2).all(|p| p[1] > p[0]), "{name}: the shift does not grow with the strength: {shifts:.2?}");
+        assert!(
+            shifts.windows(2).all(|p| p[1] > p[0]),
+            "{name}: the shift does not grow with the strength: {shifts:.2?}"
+        );
     }
     let refused = stylize::stylize(&w, &content, &Request::new(StyleSource::Label(old)).with_strength(2.5));
     assert!(matches!(refused, Err(stylize::StylizeError::Strength { .. })), "{refused:?}");

@@ -4,8 +4,8 @@
 use anyhow::Context;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use motion_stylizer::dataset::{CONTENTS, Split};
 use motion_stylizer::dataset::Style;
+use motion_stylizer::dataset::{CONTENTS, Split};
 use motion_stylizer::eval::classify::Judge;
 use motion_stylizer::eval::protocol::{self, Inputs};
 use motion_stylizer::eval::report::{self, Provenance};

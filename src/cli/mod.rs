@@ -4,9 +4,9 @@
 mod eval;
 #[cfg(feature = "model")]
 mod export;
+mod inspect;
 #[cfg(feature = "model")]
 mod label_codes;
-mod inspect;
 mod retarget;
 mod split;
 #[cfg(feature = "model")]

@@ -242,7 +242,8 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
             pool(&mut tallies[0].reference_skate, heldout_skate[pick]);
         }
 
-        for ((content, content_d), content_j) in inputs.contents.iter().zip(&content_descriptors).zip(&contents_judged) {
+        for ((content, content_d), content_j) in inputs.contents.iter().zip(&content_descriptors).zip(&contents_judged)
+        {
             let candidates: Vec<usize> = styles.iter().copied().filter(|s| Some(*s) != content.style).collect();
             if candidates.is_empty() {
                 continue;

@@ -123,7 +123,13 @@ impl Weights {
             (Some(model), Some(codes)) => Some(check_label_codes(codes, model)?),
             _ => None,
         };
-        Ok(Weights { supervised, unsupervised: load(unsupervised, Setting::Unsupervised)?, manifest, norm, label_codes })
+        Ok(Weights {
+            supervised,
+            unsupervised: load(unsupervised, Setting::Unsupervised)?,
+            manifest,
+            norm,
+            label_codes,
+        })
     }
 
     /// Reads the weights folder `dir` (native builds only): `manifest.json`, the statistics file

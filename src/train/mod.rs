@@ -1,11 +1,15 @@
-//! Training runs on the Bandai-Namco data (native only): `motion-stylizer train ae|stylizer|classifier`
+//! Training runs on the Bandai-Namco data (native only): `motion-stylizer train
+//! ae|stylizer|classifier|content-classifier`
 //! and `motion-stylizer export`.
 //!
 //! Two stages, as the paper: [`Stage::Ae`] trains the motion autoencoder and the global motion
 //! regressor ([`AeTrainer`]) on random windows of the training takes; [`Stage::Stylizer`] trains
 //! the stylizer — content encoder, style encoder and generator ([`StylizerTrainer`]) — on latents
 //! of a frozen autoencoder from an `ae` run, supervised (the unified style labels) or not. A third,
-//! [`Stage::Classifier`], trains the evaluation's style classifier ([`ClassifierTrainer`]).
+//! [`Stage::Classifier`], trains the evaluation's style classifier ([`ClassifierTrainer`]);
+//! [`Stage::ContentClassifier`] the same network on the content classes (`eval`'s content
+//! accuracy and FID). [`label_codes`] computes the supervised model's label codes from a trained
+//! bundle.
 //!
 //! The pieces: what a run is asked for and fixed with ([`settings`]); its data ([`data`]: the takes,
 //! windows and batches of [`sampler`], the held-out sets of [`eval`]); its folder ([`rundir`]:
@@ -43,8 +47,8 @@ pub mod ae;
 pub mod classifier;
 pub mod data;
 pub mod eval;
-pub mod label_codes;
 pub mod export;
+pub mod label_codes;
 pub mod logs;
 pub mod losses;
 pub mod optim;
@@ -103,10 +107,6 @@ impl Stage {
         }
     }
 
-    /// The classifier stages: judged on whole held-out takes.
-    pub fn is_classifier(&self) -> bool {
-        matches!(self, Stage::Classifier | Stage::ContentClassifier)
-    }
 }
 
 /// What a run reached.
