@@ -11,6 +11,7 @@ use motion_stylizer::eval::protocol::{self, Inputs};
 use motion_stylizer::eval::report::{self, Provenance};
 use motion_stylizer::eval::shift::Directions;
 use motion_stylizer::eval::{direction_takes, heldout_of, import_takes, load_contents};
+use motion_stylizer::features::NormStats;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -67,42 +68,35 @@ fn shown(path: &Path) -> String {
     path.strip_prefix(env!("CARGO_MANIFEST_DIR")).unwrap_or(path).display().to_string()
 }
 
+/// A trained classifier (`what`: "style", "content") from `path`, which must know `classes`
+/// classes (`of`: what they are, for the error).
+fn load_judge(path: &Path, what: &str, norm: &NormStats, classes: usize, of: &str) -> anyhow::Result<Judge> {
+    let bytes = std::fs::read(path).with_context(|| format!("cannot read the {what} classifier {}", path.display()))?;
+    let judge = Judge::from_bytes(&bytes, norm.clone())
+        .with_context(|| format!("{} is not a {what} classifier", path.display()))?;
+    anyhow::ensure!(
+        judge.num_styles() == classes,
+        "the {what} classifier {} knows {} classes, {of} {classes}",
+        path.display(),
+        judge.num_styles()
+    );
+    Ok(judge)
+}
+
 pub fn run(args: &EvalArgs) -> anyhow::Result<()> {
     anyhow::ensure!(args.repeats >= 1, "--repeats must be at least 1");
     let t0 = Instant::now();
     let weights_dir = args.weights.clone().unwrap_or_else(super::stylize::default_weights_dir);
     let weights = super::stylize::load_weights(&weights_dir)?;
     let classifier_path = args.classifier.clone().unwrap_or_else(|| crate_path("assets/eval/classifier.bin"));
-    let bytes = std::fs::read(&classifier_path)
-        .with_context(|| format!("cannot read the style classifier {}", classifier_path.display()))?;
-    let judge = Judge::from_bytes(&bytes, weights.norm().clone())
-        .with_context(|| format!("{} is not a style classifier", classifier_path.display()))?;
-    anyhow::ensure!(
-        judge.num_styles() == weights.styles().len(),
-        "the classifier knows {} styles, the weights {}",
-        judge.num_styles(),
-        weights.styles().len()
-    );
+    let judge = load_judge(&classifier_path, "style", weights.norm(), weights.styles().len(), "the weights' styles")?;
 
     let content_path = match &args.content_classifier {
         Some(p) => Some(p.clone()),
         None => Some(crate_path("assets/eval/content-classifier.bin")).filter(|p| p.is_file()),
     };
     let content_judge = match &content_path {
-        Some(path) => {
-            let bytes = std::fs::read(path)
-                .with_context(|| format!("cannot read the content classifier {}", path.display()))?;
-            let judge = Judge::from_bytes(&bytes, weights.norm().clone())
-                .with_context(|| format!("{} is not a classifier", path.display()))?;
-            anyhow::ensure!(
-                judge.num_styles() == CONTENTS.len(),
-                "{} knows {} classes, not the {} content classes",
-                path.display(),
-                judge.num_styles(),
-                CONTENTS.len()
-            );
-            Some(judge)
-        }
+        Some(path) => Some(load_judge(path, "content", weights.norm(), CONTENTS.len(), "the content classes")?),
         None => {
             eprintln!("no content classifier (assets/eval/content-classifier.bin): no content_acc, content_fid");
             None

@@ -45,8 +45,7 @@ pub fn run(args: &LabelCodesArgs) -> anyhow::Result<()> {
         ProgressStyle::with_template("{bar:40} {pos}/{len} takes | ETA {eta}")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
-    let command =
-        format!("motion-stylizer label-codes --data {} --split {}", args.data.display(), args.split.display());
+    let command = std::env::args().collect::<Vec<_>>().join(" ");
     let codes = motion_stylizer::train::label_codes::label_codes(&weights, &takes, command, |done, _| {
         bar.set_position(done as u64)
     })?;

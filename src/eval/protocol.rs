@@ -163,13 +163,18 @@ impl Tally {
         self.references.push(reference.to_vec());
     }
 
-    /// The content classifier's judgement of an output whose content is `content` (`of_content`:
-    /// its judgement of the content itself).
-    fn judge_content(&mut self, j: Judgement, content: Option<usize>, of_content: &[f32]) {
+    /// Counts the content classifier's judgement `j` of a motion whose content class is `content`.
+    fn count_content(&mut self, j: &Judgement, content: Option<usize>) {
         if let Some(c) = content {
             self.content_judged += 1;
             self.content_correct += usize::from(j.predicted == c);
         }
+    }
+
+    /// The content classifier's judgement of an output whose content is `content` (`of_content`:
+    /// its judgement of the content itself).
+    fn judge_content(&mut self, j: Judgement, content: Option<usize>, of_content: &[f32]) {
+        self.count_content(&j, content);
         self.content_features.push(j.feature);
         self.content_references.push(of_content.to_vec());
     }
@@ -234,9 +239,8 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
             let pick = if others.is_empty() { i } else { others[below(&mut rng, others.len())] };
             tallies[0].judge(judged_heldout[i].clone(), Some(style), &judged_heldout[pick].feature);
             // Content accuracy of the real takes (no content FID: they are the contents).
-            if let (Some(j), Some(c)) = (&heldout_content[i], h.content) {
-                tallies[0].content_judged += 1;
-                tallies[0].content_correct += usize::from(j.predicted == c);
+            if let Some(j) = &heldout_content[i] {
+                tallies[0].count_content(j, h.content);
             }
             pool(&mut tallies[0].skate, heldout_skate[i]);
             pool(&mut tallies[0].reference_skate, heldout_skate[pick]);

@@ -106,7 +106,6 @@ impl Stage {
             Stage::ContentClassifier => "content-classifier",
         }
     }
-
 }
 
 /// What a run reached.
