@@ -12,7 +12,7 @@ mod parse;
 mod write;
 
 pub use error::BvhError;
-pub use parse::{Limits, MAX_CHANNELS_PER_JOINT};
+pub use parse::{Header, Limits, MAX_CHANNELS_PER_JOINT};
 
 use crate::skeleton::fk;
 use glam::{DQuat, DVec3};

@@ -52,6 +52,18 @@ impl Default for Limits {
     }
 }
 
+/// What a BVH's header says about its size ([`Bvh::parse_header`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Header {
+    pub joints: usize,
+    /// Channels per frame.
+    pub channels: usize,
+    /// `Frames:` (≥ 1, ≤ the frame limit).
+    pub frames: usize,
+    /// `Frame Time:` (> 0).
+    pub frame_time: f64,
+}
+
 /// Most channels a joint can have: the six distinct ones.
 pub const MAX_CHANNELS_PER_JOINT: usize = 6;
 
@@ -72,6 +84,24 @@ impl Bvh {
             });
         }
         Parser::new(text.as_bytes(), limits).parse()
+    }
+
+    /// Reads only what comes before the frame rows, with the default [`Limits`]: the sizes an importer
+    /// needs to bound its work before anything proportional to the motion is allocated. The errors
+    /// are those [`Bvh::parse`] gives for the same text, up to the `Frame Time:` line.
+    pub fn parse_header(text: &str) -> Result<Header, BvhError> {
+        let limits = Limits::default();
+        if text.len() > limits.max_bytes {
+            return Err(BvhError::LimitExceeded {
+                line: 1,
+                what: "bytes",
+                value: text.len() as u64,
+                limit: limits.max_bytes as u64,
+            });
+        }
+        let mut p = Parser::new(text.as_bytes(), &limits);
+        let (frames, frame_time) = p.header()?;
+        Ok(Header { joints: p.joints.len(), channels: p.num_channels, frames, frame_time })
     }
 
     /// Parses BVH bytes (e.g. a file or a JS `Uint8Array`); they must be UTF-8.
@@ -394,6 +424,13 @@ impl<'a> Parser<'a> {
     }
 
     fn parse(mut self) -> Result<Bvh, BvhError> {
+        let (frames, frame_time) = self.header()?;
+        let values = self.rows(frames, self.num_channels)?;
+        Ok(Bvh { joints: std::mem::take(&mut self.joints), frame_time, frames, values })
+    }
+
+    /// The hierarchy, `Frames:` and `Frame Time:`: everything before the rows.
+    fn header(&mut self) -> Result<(usize, f64), BvhError> {
         self.hierarchy()?;
         let (tok, line) = self.labelled(&["Frames"], "Frames:")?;
         let frames = parse_count(tok, line)?;
@@ -414,8 +451,7 @@ impl<'a> Parser<'a> {
         if frame_time <= 0.0 {
             return Err(BvhError::InvalidFrameTime { line, value: frame_time });
         }
-        let values = self.rows(frames, self.num_channels)?;
-        Ok(Bvh { joints: std::mem::take(&mut self.joints), frame_time, frames, values })
+        Ok((frames, frame_time))
     }
 
     /// The frame rows and what follows them.

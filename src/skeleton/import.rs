@@ -1,6 +1,7 @@
 //! Entry points: BVH text or [`Bvh`] on any rig → [`Motion`] on the canonical rig, plus the
 //! [`UserRig`] that takes motions back to the user's skeleton.
 
+use super::resample;
 use super::retarget::UserRig;
 use crate::bvh::{Bvh, BvhError};
 use crate::motion::{Motion, MotionError};
@@ -23,6 +24,14 @@ pub enum ImportError {
     /// The clip is too long to resample (or its frame time absurd).
     #[error("the clip lasts {seconds} s: more than {limit} frames at 30 fps")]
     TooLong { seconds: f64, limit: usize },
+    /// The clip would make the importer hold more frames than its data justify
+    /// ([`super::resample::check_budget`]): `frames` source frames of `channels` channels at `fps`
+    /// resample to `resampled` frames at 30 fps, and `frames + resampled` exceeds `limit`.
+    #[error(
+        "{frames} frames of {channels} channels at {fps} fps would resample to {resampled} frames at 30 fps: \
+         more than the {limit} frames this much data may take"
+    )]
+    OverBudget { frames: usize, channels: usize, fps: f64, resampled: usize, limit: usize },
     /// The retargeted motion is not finite (values too large for the arithmetic).
     #[error(transparent)]
     Motion(#[from] MotionError),
@@ -36,7 +45,7 @@ impl ImportError {
             ImportError::MissingJoints { .. } => "RIG_UNMATCHED",
             ImportError::Degenerate { .. } => "RIG_DEGENERATE",
             ImportError::RigMismatch { .. } => "RIG_MISMATCH",
-            ImportError::TooLong { .. } => "TOO_LONG",
+            ImportError::TooLong { .. } | ImportError::OverBudget { .. } => "TOO_LONG",
             ImportError::Motion(_) => "BAD_MOTION",
         }
     }
@@ -49,8 +58,12 @@ pub struct Imported {
     pub rig: UserRig,
 }
 
-/// Parses BVH text, detects its rig, retargets to the canonical rig and resamples to 30 fps.
+/// Parses BVH text, detects its rig, retargets to the canonical rig and resamples to 30 fps. The
+/// header is read first and the work bounded from it ([`resample::check_budget`]) before the frame
+/// rows are parsed.
 pub fn import_bvh(text: &str) -> Result<Imported, ImportError> {
+    let h = Bvh::parse_header(text)?;
+    resample::check_budget(h.frames, h.channels, h.frame_time)?;
     import(&Bvh::parse(text)?)
 }
 

@@ -22,6 +22,47 @@ pub fn source_fps(frame_time: f64) -> f64 {
     if r >= 1.0 && (fps - r).abs() <= 1e-4 * r { r } else { fps }
 }
 
+/// Frames (source and resampled together) an import may hold whatever its data: about 40 MB of
+/// working memory. See [`check_budget`].
+pub const MIN_HELD_FRAMES: usize = 20_000;
+
+/// Channel values of the source per frame held beyond [`MIN_HELD_FRAMES`].
+pub const VALUES_PER_HELD_FRAME: usize = 8;
+
+/// Frames of the resampled clip for `frames` source frames at `fps` (at least 1), or `TooLong`
+/// beyond [`MAX_FRAMES`] (or for a non-finite rate).
+pub fn output_frames(frames: usize, fps: f64) -> Result<usize, ImportError> {
+    if frames <= 1 {
+        return Ok(1);
+    }
+    let duration = (frames - 1) as f64 / fps;
+    let n = (duration * FPS + 1e-9).floor() + 1.0;
+    if !(n.is_finite() && n <= MAX_FRAMES as f64) {
+        return Err(ImportError::TooLong { seconds: duration, limit: MAX_FRAMES });
+    }
+    Ok((n as usize).max(1))
+}
+
+/// Bounds an import's work from the header alone (frames, channels per frame, frame time), before
+/// anything proportional to the motion is allocated; returns the resampled frame count.
+///
+/// The importer holds a few hundred bytes per source frame and per resampled frame (poses, root
+/// path, foot heights), so their sum may be at most [`MIN_HELD_FRAMES`] or one frame per
+/// [`VALUES_PER_HELD_FRAME`] values of the source, whichever is more. A file's values take at least
+/// 2 bytes each, so a file under 1 MB holds at most ~62,500 frames (~100 MB with the features); a
+/// full human rig (≥ 60 channels) at ≥ 5 fps always fits. Beyond: [`ImportError::OverBudget`]
+/// (e.g. two frames with `Frame Time: 16000`, 480,001 frames at 30 fps, or a million frames of no
+/// channels).
+pub fn check_budget(frames: usize, channels: usize, frame_time: f64) -> Result<usize, ImportError> {
+    let fps = source_fps(frame_time);
+    let resampled = output_frames(frames, fps)?;
+    let limit = MIN_HELD_FRAMES.max(frames.saturating_mul(channels) / VALUES_PER_HELD_FRAME);
+    if frames.saturating_add(resampled) > limit {
+        return Err(ImportError::OverBudget { frames, channels, fps, resampled, limit });
+    }
+    Ok(resampled)
+}
+
 /// One output frame: source frames `i` and `i + 1` (clamped) mixed with weight `t` on the second.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sample {
@@ -34,12 +75,7 @@ pub fn plan(frames: usize, fps: f64) -> Result<Vec<Sample>, ImportError> {
     if frames <= 1 {
         return Ok(vec![Sample { i: 0, t: 0.0 }]);
     }
-    let duration = (frames - 1) as f64 / fps;
-    let n = (duration * FPS + 1e-9).floor() + 1.0;
-    if !(n.is_finite() && n <= MAX_FRAMES as f64) {
-        return Err(ImportError::TooLong { seconds: duration, limit: MAX_FRAMES });
-    }
-    let n = (n as usize).max(1);
+    let n = output_frames(frames, fps)?;
     Ok((0..n)
         .map(|k| {
             let s = k as f64 * fps / FPS; // exact for whole multiples of 30 fps
@@ -99,6 +135,26 @@ mod tests {
         assert!((p[12].t - 0.6).abs() < 1e-9);
         assert!(matches!(plan(3, 1e-9), Err(ImportError::TooLong { .. })));
         assert!(matches!(plan(3, 0.0), Err(ImportError::TooLong { .. })));
+    }
+
+    #[test]
+    fn budget_bounds_sparse_and_empty_clips() {
+        // A legit clip: 120 frames of 66 channels at 120 fps → 30 frames.
+        assert_eq!(check_budget(120, 66, 1.0 / 120.0).unwrap(), 30);
+        // Short clips at any rate fit the floor: 600 frames at 1 fps → 17,971 frames (10 min).
+        assert_eq!(check_budget(600, 66, 1.0).unwrap(), 17_971);
+        // Two frames 16,000 s apart: 480,001 frames at 30 fps for 2 × 66 values.
+        match check_budget(2, 66, 16_000.0) {
+            Err(ImportError::OverBudget { frames: 2, resampled: 480_001, limit: MIN_HELD_FRAMES, .. }) => {}
+            other => panic!("{other:?}"),
+        }
+        // A million frames without channels.
+        assert!(matches!(check_budget(1_000_000, 0, 1.0 / 30.0), Err(ImportError::OverBudget { .. })));
+        // A long, dense clip: bounded by its data (100,000 frames × 66 channels at 30 fps).
+        assert_eq!(check_budget(100_000, 66, 1.0 / 30.0).unwrap(), 100_000);
+        // Beyond the frame limit stays TooLong.
+        assert!(matches!(check_budget(3, 66, 1e9), Err(ImportError::TooLong { .. })));
+        assert!(matches!(check_budget(3, 66, f64::NAN), Err(ImportError::TooLong { .. })));
     }
 
     #[test]

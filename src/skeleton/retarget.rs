@@ -153,6 +153,7 @@ impl UserRig {
     /// is no use, and to measure the floor) and derives the retargeting.
     pub fn from_bvh(bvh: &Bvh) -> Result<UserRig, ImportError> {
         well_formed(bvh)?;
+        resample::check_budget(bvh.frames, bvh.num_channels(), bvh.frame_time)?;
         let joints = bvh.joints.clone();
         let det = rigs::detect(&joints)
             .map_err(|e| ImportError::MissingJoints { missing: e.missing, rig: e.rig.to_string() })?;
@@ -353,6 +354,7 @@ impl UserRig {
     /// The motion of `bvh` (this rig's hierarchy, any frame rate) on the canonical rig at 30 fps.
     pub fn to_canonical(&self, bvh: &Bvh) -> Result<Motion, ImportError> {
         self.check_hierarchy(bvh)?;
+        resample::check_budget(bvh.frames, bvh.num_channels(), bvh.frame_time)?;
         let plan = resample::plan(bvh.frames, resample::source_fps(bvh.frame_time))?;
         let (w, wi) = (self.world, self.world.inverse());
         let t_inv: Vec<DQuat> = self.t_global.iter().map(|q| q.inverse()).collect();
