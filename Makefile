@@ -54,6 +54,7 @@ test-wasm: setup-wasm pkg
 	$(CARGO) test --release --target wasm32-unknown-unknown --no-default-features --features model,wasm --test wasm_facade
 	$(CARGO) test --release --target wasm32-unknown-unknown --no-default-features --features model,wasm,ndarray --test wasm_facade -- ndarray
 	$(CARGO) build --release --bin motion-stylizer
+	cd tests/npm && npm ci --no-audit --no-fund
 	node --test tests/npm/
 
 ## www: build pkg/ and assemble the browser demo into out/www/ (static files: the page, the package, the sample clips)

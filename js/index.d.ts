@@ -129,6 +129,32 @@ export type StylizeOptions = StyleSource & {
   rig?: 'content' | 'canonical';
 };
 
+/** The three.js module as toThreeClip uses it (typed loosely, so that three is not a dependency). */
+export type ThreeModule = {
+  Bone: new () => any;
+  Group: new () => any;
+  Skeleton: new (bones: any[]) => any;
+  AnimationClip: new (name: string, duration: number, tracks: any[]) => any;
+  QuaternionKeyframeTrack: new (name: string, times: ArrayLike<number>, values: ArrayLike<number>) => any;
+  VectorKeyframeTrack: new (name: string, times: ArrayLike<number>, values: ArrayLike<number>) => any;
+  PropertyBinding: { sanitizeNodeName(name: string): string };
+};
+
+export interface ThreeClip {
+  /** A THREE.Group holding the root bone: add it to a scene, play `clip` on `new AnimationMixer(root)`. */
+  root: any;
+  /** THREE.Bone per joint, in the order of `skeleton.names` (names made safe for tracks and unique). */
+  bones: any[];
+  /** THREE.Skeleton of `bones` (bind a SkinnedMesh to it, or draw it with THREE.SkeletonHelper(root)). */
+  skeleton: any;
+  /** THREE.AnimationClip: a position track per joint with position channels, a quaternion track per joint with rotation channels. */
+  clip: any;
+  /** Metres per unit of the rig's BVH (0.01 for the canonical rig, in centimetres). */
+  metresPerUnit: number;
+  /** The turn from the rig's axes to Y up, facing +Z, applied at the root: [x, y, z, w]. */
+  orientation: [number, number, number, number];
+}
+
 export class StylizedMotion {
   readonly frames: number;
   readonly fps: number;
@@ -138,6 +164,16 @@ export class StylizedMotion {
   toBvh(): string;
   /** World joint positions: frames × joints × 3. */
   positions(): Float32Array;
+  /**
+   * Binary glTF (.glb bytes): the skeleton (one node per joint, a skin and a mesh of bone shapes)
+   * and one animation over the clip, in metres, Y up, facing +Z. Errors: BAD_MOTION, TOO_LONG.
+   */
+  toGlb(): Uint8Array;
+  /**
+   * A three.js Skeleton and AnimationClip of this motion without a BVH or glTF round trip; pass the
+   * three.js module (`import * as THREE from 'three'`). Same space as toGlb().
+   */
+  toThreeClip(THREE: ThreeModule, options?: { name?: string }): ThreeClip;
   /** Set when the style came from a reference given without a label to the supervised model: the label inferred for it. */
   readonly inferredLabel?: string;
   /** Releases its memory in the engine now rather than when garbage-collected; it cannot be used after. */

@@ -316,6 +316,72 @@ export class StylizedMotion {
     const output = this.#live();
     return guard(() => output.positions());
   }
+
+  /**
+   * Binary glTF (.glb bytes, Uint8Array): the skeleton as nodes with a skin and a mesh of bone
+   * shapes, and one animation over the clip, in metres, Y up, facing +Z (the bytes the native CLI
+   * writes for `-o out.glb`).
+   */
+  toGlb() {
+    const output = this.#live();
+    return guard(() => output.toGlb());
+  }
+
+  /**
+   * A three.js skeleton and clip of this motion, built from the engine's pose (no BVH or glTF round
+   * trip): `{ root, bones, skeleton, clip, metresPerUnit, orientation }`. `THREE` is the three.js
+   * module (`import * as THREE from 'three'`); `root` is a Group holding the root bone: add it to a
+   * scene and play `clip` with `new THREE.AnimationMixer(root)`. Same space and joint values as
+   * `toGlb()` (metres, Y up, facing +Z); bone names are the joints', made safe for track names
+   * (THREE.PropertyBinding.sanitizeNodeName) and unique. Options: `name` of the clip ('motion').
+   */
+  toThreeClip(THREE, { name = 'motion' } = {}) {
+    for (const k of ['Bone', 'Group', 'Skeleton', 'AnimationClip', 'QuaternionKeyframeTrack', 'VectorKeyframeTrack', 'PropertyBinding']) {
+      if (typeof THREE?.[k] !== 'function') {
+        throw codedError('BAD_REQUEST', `toThreeClip takes the three.js module (import * as THREE from 'three'): THREE.${k} is missing`);
+      }
+    }
+    const output = this.#live();
+    const { rest, frames, animated, frameTime, metresPerUnit, orientation } = guard(() => {
+      const pose = output.threePose();
+      try {
+        return { rest: pose.rest(), frames: pose.frames(), animated: pose.animated(), frameTime: pose.frameTime, metresPerUnit: pose.metresPerUnit, orientation: Array.from(pose.orientation()) };
+      } finally {
+        pose.free();
+      }
+    });
+    const { names, parents } = this.skeleton;
+    const joints = names.length;
+    const count = frames.length / (joints * 7);
+    const taken = new Set();
+    const bones = names.map((n, j) => {
+      const bone = new THREE.Bone();
+      const safe = THREE.PropertyBinding.sanitizeNodeName(n) || `joint${j}`;
+      let unique = safe;
+      for (let k = 1; taken.has(unique); k++) unique = `${safe}_${k}`;
+      taken.add(unique);
+      bone.name = unique;
+      bone.position.fromArray(rest, 7 * j);
+      bone.quaternion.fromArray(rest, 7 * j + 3);
+      return bone;
+    });
+    const root = new THREE.Group();
+    root.name = 'motion-stylizer';
+    bones.forEach((bone, j) => (parents[j] < 0 ? root : bones[parents[j]]).add(bone));
+    const times = Float32Array.from({ length: count }, (_, f) => f * frameTime);
+    const track = (j, offset, width) => {
+      const values = new Float32Array(count * width);
+      for (let f = 0; f < count; f++) for (let c = 0; c < width; c++) values[f * width + c] = frames[(f * joints + j) * 7 + offset + c];
+      return values;
+    };
+    const tracks = [];
+    bones.forEach((bone, j) => {
+      if (animated[j] & 1) tracks.push(new THREE.VectorKeyframeTrack(`${bone.name}.position`, times, track(j, 0, 3)));
+      if (animated[j] & 2) tracks.push(new THREE.QuaternionKeyframeTrack(`${bone.name}.quaternion`, times, track(j, 3, 4)));
+    });
+    const clip = new THREE.AnimationClip(String(name), (count - 1) * frameTime, tracks);
+    return { root, bones, skeleton: new THREE.Skeleton(bones), clip, metresPerUnit, orientation };
+  }
   /** Releases its memory in the engine now rather than when garbage-collected; it cannot be used after. */
   free() {
     if (this.#output != null) release(this.#output, this.#made);

@@ -2,13 +2,14 @@
 //! for native use and WebAssembly.
 //!
 //! Pipeline stages, one module each: [`bvh`] (text ↔ motion), [`skeleton`] (kinematics,
-//! retargeting), [`features`] (the 260-D representation).
+//! retargeting), [`features`] (the 260-D representation); [`gltf`] writes motions as `.glb`.
 
 pub mod bvh;
 pub mod dataset;
 #[cfg(all(feature = "model", not(target_arch = "wasm32")))]
 pub mod eval;
 pub mod features;
+pub mod gltf;
 #[cfg(feature = "model")]
 pub mod model;
 pub mod motion;

@@ -7,6 +7,7 @@ mod export;
 mod inspect;
 #[cfg(feature = "model")]
 mod label_codes;
+mod output;
 mod retarget;
 mod split;
 #[cfg(feature = "model")]
@@ -42,7 +43,7 @@ enum Command {
     /// Retarget a BVH onto the canonical rig at 30 fps, or onto the skeleton of another BVH.
     Retarget {
         file: PathBuf,
-        /// Output BVH path.
+        /// Output path: BVH, or binary glTF when it ends in .glb.
         #[arg(short, long)]
         output: PathBuf,
         /// Put the motion on this BVH's skeleton instead of the canonical rig.

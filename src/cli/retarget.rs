@@ -1,5 +1,6 @@
-//! `motion-stylizer retarget FILE.bvh -o OUT.bvh [--onto RIG.bvh]`.
+//! `motion-stylizer retarget FILE.bvh -o OUT.bvh|OUT.glb [--onto RIG.bvh]`.
 
+use super::output::Rig;
 use anyhow::Context;
 use motion_stylizer::bvh::Bvh;
 use motion_stylizer::skeleton::{self, UserRig};
@@ -8,17 +9,22 @@ use std::path::Path;
 pub fn run(file: &Path, output: &Path, onto: Option<&Path>) -> anyhow::Result<()> {
     let text = super::read_text(file)?;
     let imported = skeleton::import_bvh(&text).with_context(|| format!("cannot import {}", file.display()))?;
-    let out = match onto {
-        None => imported.motion.to_bvh(),
+    let rig = match onto {
+        None => None,
         Some(rig_path) => {
             let rig_text = super::read_text(rig_path)?;
             let rig_bvh = Bvh::parse(&rig_text).with_context(|| format!("cannot read {}", rig_path.display()))?;
             let rig =
                 UserRig::from_bvh(&rig_bvh).with_context(|| format!("cannot use {} as a rig", rig_path.display()))?;
-            rig.from_canonical(&imported.motion)
+            Some(rig)
         }
     };
-    super::write_text(output, &out.to_bvh_string())?;
+    let out = match &rig {
+        None => imported.motion.to_bvh(),
+        Some(rig) => rig.from_canonical(&imported.motion),
+    };
+    let space = rig.as_ref().map_or(Rig::Canonical, |r| Rig::User(r.report()));
+    super::output::write_motion(output, &out, space)?;
     eprintln!(
         "{} ({}, {} frames) -> {} ({} frames at 30 fps)",
         file.display(),

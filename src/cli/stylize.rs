@@ -1,6 +1,7 @@
 //! `motion-stylizer stylize CONTENT.bvh (--style-motion REF.bvh [--label NAME] | --label NAME |
 //! --prior) [--unsupervised] [--samples N] [--seed S] [--canonical] [--weights DIR] -o OUT.bvh`.
 
+use super::output::Rig;
 use anyhow::{Context, bail};
 use clap::Args;
 use motion_stylizer::skeleton::{self, Imported};
@@ -48,8 +49,8 @@ pub struct StylizeArgs {
     /// Default: assets/weights in the crate.
     #[arg(long, value_name = "DIR")]
     weights: Option<PathBuf>,
-    /// Output BVH path.
-    #[arg(short, long, value_name = "OUT.bvh")]
+    /// Output path: BVH, or binary glTF when it ends in .glb.
+    #[arg(short, long, value_name = "OUT.bvh|OUT.glb")]
     output: PathBuf,
 }
 
@@ -120,13 +121,12 @@ pub fn run(args: &StylizeArgs) -> anyhow::Result<()> {
     };
     let motions = stylize::stylize(&weights, &content.motion, &request)?;
 
-    let texts: Vec<String> = motions
-        .iter()
-        .map(|m| if args.canonical { m.to_bvh() } else { content.rig.from_canonical(m) }.to_bvh_string())
-        .collect();
-    for (i, text) in texts.iter().enumerate() {
-        let path = output_path(&args.output, i, texts.len());
-        super::write_text(&path, text)?;
+    let outputs: Vec<_> =
+        motions.iter().map(|m| if args.canonical { m.to_bvh() } else { content.rig.from_canonical(m) }).collect();
+    let rig = || if args.canonical { Rig::Canonical } else { Rig::User(content.rig.report()) };
+    for (i, bvh) in outputs.iter().enumerate() {
+        let path = output_path(&args.output, i, outputs.len());
+        super::output::write_motion(&path, bvh, rig())?;
         eprintln!(
             "{} ({} frames) -> {} ({}, {setting})",
             args.content.display(),

@@ -9,6 +9,7 @@ use super::options::StylizeOptions;
 use super::panic;
 use super::style::StyleSpec;
 use super::stylized::StylizedMotion;
+use crate::gltf::GltfOptions;
 use crate::stylize::{self, Request, Setting, Weights};
 
 /// The trained models, ready to stylize.
@@ -92,7 +93,10 @@ impl Engine {
         let motions = stylize::stylize(&self.weights, &content.motion, &request).map_err(|e| stylize_error(&e))?;
         Ok(motions
             .iter()
-            .map(|m| StylizedMotion::new(if options.canonical { m.to_bvh() } else { content.rig.from_canonical(m) }))
+            .map(|m| match options.canonical {
+                true => StylizedMotion::new(m.to_bvh(), GltfOptions::canonical()),
+                false => StylizedMotion::new(content.rig.from_canonical(m), GltfOptions::for_rig(content.rig.report())),
+            })
             .collect())
     }
 

@@ -1,10 +1,11 @@
 //! Errors as JS `Error`s with a stable `code` property (and, for BVH parse errors, the `line` and
 //! the reader's error `kind`). The codes come from the library's typed errors
-//! ([`ImportError::code`], [`StylizeError::code`]); the facade adds `BAD_REQUEST` (values from JS
+//! ([`ImportError::code`], [`StylizeError::code`], [`GltfError::code`]); the facade adds `BAD_REQUEST` (values from JS
 //! that are not what the API takes) and `BACKEND_UNAVAILABLE`.
 
 use wasm_bindgen::JsValue;
 
+use crate::gltf::GltfError;
 use crate::skeleton::ImportError;
 use crate::stylize::StylizeError;
 
@@ -45,4 +46,9 @@ pub fn stylize_error(e: &StylizeError) -> JsValue {
         StylizeError::Import(inner) => import_error(inner),
         other => js_error(other.code(), &other.to_string()),
     }
+}
+
+/// A glTF export failure ([`GltfError::code`]: `BAD_MOTION`, `TOO_LONG`).
+pub fn gltf_error(e: &GltfError) -> JsValue {
+    js_error(e.code(), &e.to_string())
 }

@@ -28,4 +28,4 @@ mod stylized;
 pub use engine::Engine;
 pub use motion::ImportedMotion;
 pub use style::StyleSpec;
-pub use stylized::StylizedMotion;
+pub use stylized::{StylizedMotion, ThreePose};
