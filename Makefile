@@ -135,4 +135,4 @@ data:
 
 clean:
 	$(CARGO) clean
-	rm -rf out tests/js/node_modules tests/www/node_modules bench/perf/node_modules bench/perf/.venv
+	rm -rf out tests/js/node_modules tests/www/node_modules tests/npm/node_modules www/node_modules bench/perf/node_modules bench/perf/.venv

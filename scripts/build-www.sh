@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Assembles the browser demo into a static folder (default out/www/, git-ignored): the page from
-# www/, the npm package from pkg/ (build it first: `make pkg`; `make www` does both) and the sample
-# clips from tests/fixtures/. Any static file server works; scripts/serve-www.mjs is one.
+# www/, the npm package from pkg/ (build it first: `make pkg`; `make www` does both), three.js
+# (npm, www/package.json) and the sample clips from tests/fixtures/. Any static file server works;
+# scripts/serve-www.mjs is one.
 #
 #   scripts/build-www.sh [OUT_DIR]
 set -euo pipefail
@@ -18,6 +19,17 @@ cp www/index.html www/style.css "$out/"
 cp -r www/js "$out/js"
 cp -r pkg "$out/pkg"
 rm -f "$out/pkg/.gitkeep"
+
+# three.js for the 3D view, from npm at www/package-lock.json's version (installed once), copied
+# into the site (no CDN: the demo works offline); index.html's import map points at it.
+three=www/node_modules/three
+locked=$(node -p 'require("./www/package-lock.json").packages["node_modules/three"].version')
+if [[ ! -f $three/package.json || $(node -p "require('./$three/package.json').version") != "$locked" ]]; then
+  (cd www && npm ci --no-audit --no-fund)
+fi
+mkdir -p "$out/vendor/three/addons/controls"
+cp "$three/build/three.module.js" "$three/build/three.core.js" "$three/LICENSE" "$out/vendor/three/"
+cp "$three/examples/jsm/controls/OrbitControls.js" "$out/vendor/three/addons/controls/"
 
 # The built-in samples (www/js/samples.js lists them, with their origins and licences).
 for f in bandai/dataset-2_walk_normal_001_f120.bvh bandai/dataset-2_walk_elderly_001_f120.bvh \

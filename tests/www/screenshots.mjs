@@ -13,7 +13,8 @@ const executablePath = process.env.CHROMIUM ?? execFileSync(`${root}scripts/setu
 mkdirSync(out, { recursive: true });
 
 const server = await startServer(`${root}out/www`);
-const browser = await chromium.launch({ executablePath, args: ['--no-sandbox'] });
+// WebGL (the 3D view) through SwiftShader, Chromium's software renderer.
+const browser = await chromium.launch({ executablePath, args: ['--no-sandbox', '--enable-unsafe-swiftshader', '--use-angle=swiftshader'] });
 
 async function shoot(name, viewport, fullPage) {
   const page = await browser.newPage({ viewport, deviceScaleFactor: 1 });
@@ -30,7 +31,11 @@ async function shoot(name, viewport, fullPage) {
   await page.click('#thumbs button:nth-child(3)');
   await page.click('#play');
   await page.locator('#scrub').fill('72');
-  await page.evaluate(() => document.activeElement?.blur());
+  // Back to the top (picking a thumbnail scrolls it into view): the 3D view first.
+  await page.evaluate(() => {
+    document.activeElement?.blur();
+    window.scrollTo(0, 0);
+  });
   await page.screenshot({ path: `${out}/${name}.png`, fullPage });
   await page.close();
   console.log(`${out}/${name}.png`);

@@ -8,6 +8,7 @@ import { MAX_LINK_CHARS, decodeState, encodeState, hasState } from './share.js';
 import { Thumbs } from './thumbs.js';
 import { onFileDrop, progress, showError, status } from './ui.js';
 import { Views, toDisplay } from './views.js';
+import { View3D, canonicalIndices } from './view3d.js';
 
 const el = (id) => document.getElementById(id);
 const MAX_FILE_BYTES = 32 * 1024 * 1024;
@@ -15,6 +16,12 @@ const DEFAULT = { content: 'walk-normal', ref: 'walk-elderly', label: 'old' };
 
 const worker = new WorkerClient();
 const views = new Views({ front: el('view-front'), side: el('view-side'), top: el('view-top') });
+const view3d = new View3D(el('view-3d'), el('view-3d-note'));
+/** Both the orthographic views and the 3D view show the same motions in the same layout. */
+const showMotions = (options) => {
+  views.set(options);
+  view3d.set(options);
+};
 const thumbs = new Thumbs(el('thumbs-box'), el('thumbs'), (i) => pickResult(i));
 const player = new Player((time) => showTime(time));
 
@@ -31,6 +38,7 @@ const state = {
   timings: {},
 };
 window.__demo = state; // for the end-to-end tests and the curious (read-only use)
+state.view3d = view3d;
 
 function setBusy(delta) {
   state.busy += delta;
@@ -44,6 +52,7 @@ function setBusy(delta) {
 
 function showTime(time) {
   views.draw(time);
+  view3d.draw(time);
   thumbs.draw(time);
   // Frame k covers [k/fps, (k+1)/fps): floor, clamped to the last frame (a looping one-frame clip's
   // clock runs in [0, 1/fps) and must read 0 / 0).
@@ -73,7 +82,7 @@ el('scrub').addEventListener('input', () => {
 el('speed').addEventListener('change', () => (player.speed = Number(el('speed').value)));
 el('loop').addEventListener('change', () => (player.loop = el('loop').checked));
 const viewOptions = () => ({ layout: el('layout').value, showContent: el('show-content').checked, showResult: el('show-result').checked });
-for (const id of ['layout', 'show-content', 'show-result']) el(id).addEventListener('change', () => views.set(viewOptions()));
+for (const id of ['layout', 'show-content', 'show-result']) el(id).addEventListener('change', () => showMotions(viewOptions()));
 
 document.addEventListener('keydown', (e) => {
   const t = e.target;
@@ -102,14 +111,15 @@ async function loadMotion(slot, text, source, name) {
   progress('busy');
   try {
     const r = await worker.call('import', { slot, text });
-    const motion = { source, name, rig: r.rig, report: r.report, file: r.display.file, display: toDisplay(r.display, r.report) };
+    const display = { ...toDisplay(r.display, r.report), canonical: canonicalIndices(r.display.names, r.report.matched) };
+    const motion = { source, name, rig: r.rig, report: r.report, file: r.display.file, display };
     state[slot] = motion;
     showError(null);
     if (slot === 'content') {
       state.results = [];
       state.made = null;
       thumbs.show([], null, 0);
-      views.set({ content: motion.display, result: null, ...viewOptions() });
+      showMotions({ content: motion.display, result: null, ...viewOptions() });
       updateDuration();
       el('content-info').textContent = describe(motion);
       el('share-url').hidden = true;
@@ -176,7 +186,7 @@ onFileDrop((file) => loadFile('content', file));
 function pickResult(i) {
   state.pick = Math.max(0, Math.min(state.results.length - 1, i));
   thumbs.select(state.pick);
-  views.set({ result: state.results[state.pick]?.display ?? null });
+  showMotions({ result: state.results[state.pick]?.display ?? null });
   updateDuration();
 }
 
@@ -201,7 +211,7 @@ async function stylize() {
     const { outputs, ms, inferredLabel } = await worker.call('stylize', request);
     const report = state.content.report;
     const turn = state.content.display.turn;
-    state.results = outputs.map((o) => ({ bvh: o.bvh, display: toDisplay(o, report, turn) }));
+    state.results = outputs.map((o) => ({ bvh: o.bvh, display: { ...toDisplay(o, report, turn), canonical: canonicalIndices(o.names, report.matched) } }));
     state.made = { controls, request, content: state.content, ref: usesReference(controls) ? state.ref : null };
     state.timings.lastStylizeMs = ms;
     state.timings.lastRoundTripMs = performance.now() - started;
@@ -239,8 +249,8 @@ el('strength').addEventListener('change', () => state.made && stylize());
 
 // ---------- download, share ----------
 
-function saveText(text, name) {
-  const url = URL.createObjectURL(new Blob([text], { type: 'text/plain' }));
+function saveText(text, name, type = 'text/plain') {
+  const url = URL.createObjectURL(new Blob([text], { type }));
   const a = document.createElement('a');
   a.href = url;
   a.download = name;
@@ -254,17 +264,22 @@ el('download').addEventListener('click', async () => {
   const made = state.made;
   if (!made || !state.results.length) return;
   const base = `${made.content.name.replace(/\.bvh$/i, '')}.${styleName(made.controls)}${state.results.length > 1 ? `.${state.pick + 1}` : ''}`;
-  if (el('rig').value === 'content') {
+  const rig = el('rig').value;
+  const glb = el('format').value === 'glb';
+  if (rig === 'content' && !glb) {
     saveText(state.results[state.pick].bvh, `${base}.bvh`);
     return;
   }
-  // The canonical rig: the same request again (same seed, same bits) written on the canonical skeleton.
+  // The canonical rig or glTF: the same request again (same seed, same bits), written on the
+  // rig and in the format asked for.
   setBusy(1);
   progress('busy');
-  status('Writing the canonical-rig BVH…');
+  const name = `${base}${rig === 'canonical' ? '.canonical' : ''}.${glb ? 'glb' : 'bvh'}`;
+  status(`Writing ${name}…`);
   try {
-    const { outputs } = await worker.call('stylize', { ...made.request, rig: 'canonical', only: state.pick });
-    saveText(outputs[0].bvh, `${base}.canonical.bvh`);
+    const { outputs } = await worker.call('stylize', { ...made.request, rig, only: state.pick, glb });
+    if (glb) saveText(outputs[0].glb, name, 'model/gltf-binary');
+    else saveText(outputs[0].bvh, name);
     status('Downloaded.');
   } catch (e) {
     showError('Download failed', e);
@@ -396,7 +411,7 @@ async function boot() {
   fillSelect(el('content-sample'), samples, DEFAULT.content);
   fillSelect(el('ref-sample'), samples, DEFAULT.ref);
   syncControls();
-  views.set(viewOptions());
+  showMotions(viewOptions());
   if (!(await loadEngine('cpu'))) return;
   const labels = state.styles.map((s) => [s, s]);
   for (const id of ['label', 'ref-label', 'mix-a-label', 'mix-b-label']) fillSelect(el(id), labels);

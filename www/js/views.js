@@ -1,4 +1,5 @@
-// Three orthographic views (front, side, top) of one or two skeleton motions on 2D canvases:
+// Three orthographic views (front, side, top) of one or two skeleton motions on 2D canvases (the
+// perspective view is view3d.js):
 // bones as lines, joints as dots, a ground grid, the root's trail. Motions are first brought into
 // display space (Y up, Z the character's forward, centimetres) by toDisplay.
 
@@ -206,7 +207,7 @@ function fitView(view, items, w, h, floor) {
 }
 
 /** Items to draw: the content and the result, shifted apart in the side-by-side layout. */
-function layoutItems(content, result, { layout = 'overlay', showContent = true, showResult = true } = {}) {
+export function layoutItems(content, result, { layout = 'overlay', showContent = true, showResult = true } = {}) {
   const items = [];
   let shift = 0;
   if (layout === 'side' && content && result) {

@@ -1,6 +1,7 @@
 // The Web Worker that runs the model: loads the package (wasm + weights, with download progress),
-// imports BVH files into named slots ('content', 'ref'), and stylizes. The page talks to it through
-// worker-client.js; every request is answered in order with {id, result} or {id, error: {code, message}}.
+// imports BVH files into named slots ('content', 'ref'), and stylizes (BVH, joint positions, .glb).
+// The page talks to it through worker-client.js; every request is answered in order with
+// {id, result} or {id, error: {code, message}}.
 
 import { Stylizer } from '../pkg/index.js';
 
@@ -77,14 +78,14 @@ const ops = {
       result: {
         frames: motion.frames,
         rig: motion.rig,
-        report: { up: report.up_axis, forward: report.forward_axis, scale: report.scale, missing: report.missing, pairs },
+        report: { up: report.up_axis, forward: report.forward_axis, scale: report.scale, missing: report.missing, matched: report.matched, pairs },
         display,
       },
       transfer: [display.positions.buffer],
     };
   },
 
-  async stylize({ source, unsupervised, samples, seed, temperature, strength, rig, only }) {
+  async stylize({ source, unsupervised, samples, seed, temperature, strength, rig, only, glb }) {
     const content = slots.get('content');
     if (!content) throw coded('BAD_REQUEST', 'load a content motion first');
     const t0 = performance.now();
@@ -101,9 +102,11 @@ const ops = {
       parents: o.skeleton.parents,
       frames: o.frames,
       fps: o.fps,
+      glb: glb ? o.toGlb() : null,
     }));
     for (const o of outputs) o.free();
-    return { result: { outputs: result, ms, inferredLabel }, transfer: result.filter((o) => o.positions).map((o) => o.positions.buffer) };
+    const transfer = result.flatMap((o) => [o.positions?.buffer, o.glb?.buffer]).filter(Boolean);
+    return { result: { outputs: result, ms, inferredLabel }, transfer };
   },
 };
 
