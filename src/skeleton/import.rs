@@ -18,6 +18,10 @@ pub enum ImportError {
     /// The skeleton gives no usable geometry (zero-length bones, coincident hips, no leg height, …).
     #[error("degenerate rig: {reason}")]
     Degenerate { reason: String },
+    /// The matched skeleton cannot be a human body: a single chain, a quadruped, limbs the wrong way
+    /// ([`super::retarget`] documents the checks).
+    #[error("not a human skeleton: {reason}")]
+    NotHuman { reason: String },
     /// [`UserRig::to_canonical`] was given a BVH whose hierarchy is not the rig's.
     #[error("the BVH's hierarchy is not the rig's: {reason}")]
     RigMismatch { reason: String },
@@ -44,6 +48,7 @@ impl ImportError {
             ImportError::Bvh(_) => "BVH_PARSE",
             ImportError::MissingJoints { .. } => "RIG_UNMATCHED",
             ImportError::Degenerate { .. } => "RIG_DEGENERATE",
+            ImportError::NotHuman { .. } => "NOT_HUMAN",
             ImportError::RigMismatch { .. } => "RIG_MISMATCH",
             ImportError::TooLong { .. } | ImportError::OverBudget { .. } => "TOO_LONG",
             ImportError::Motion(_) => "BAD_MOTION",

@@ -41,7 +41,7 @@ use super::canonical::{self, JOINT_NAMES, NUM_JOINTS, PARENTS, joint::*};
 use super::resample;
 use super::rigs::{self, JointMap};
 use super::rotation::decompose;
-use super::tpose::{Core, build, canonical_tpose, degenerate};
+use super::tpose::{Core, build, canonical_tpose, check_human, degenerate};
 use crate::bvh::{Axis, Bvh, BvhJoint, Channel};
 use crate::motion::{Motion, Pose, forward_kinematics};
 use glam::{DQuat, DVec3};
@@ -62,7 +62,7 @@ pub struct RigReport {
     pub rig: String,
     /// Canonical joint name → user joint name, canonical order.
     pub matched: Vec<(String, String)>,
-    /// Canonical joints the rig lacks (optional ones: they get identity local rotations).
+    /// Canonical joints the rig lacks (optional ones: synthesised, they get identity local rotations).
     pub missing: Vec<String>,
     /// Canonical centimetres per user unit.
     pub scale: f64,
@@ -100,6 +100,10 @@ pub struct UserRig {
     /// toes are matched, the ankle height when not).
     foot_rest: f64,
     report: RigReport,
+    /// Canonical joints the rig lacks, each with how the canonical rig makes it up.
+    synthesised: Vec<(String, String)>,
+    /// What the importer had to decide, in words.
+    notes: Vec<String>,
 }
 
 /// What [`Bvh::parse`] guarantees, checked for hand-built values: a root first, parents before
@@ -155,8 +159,17 @@ impl UserRig {
         well_formed(bvh)?;
         resample::check_budget(bvh.frames, bvh.num_channels(), bvh.frame_time)?;
         let joints = bvh.joints.clone();
-        let det = rigs::detect(&joints)
-            .map_err(|e| ImportError::MissingJoints { missing: e.missing, rig: e.rig.to_string() })?;
+        let det = rigs::detect(&joints).map_err(|e| {
+            // One or two chains cannot be two arms and two legs, whatever the names.
+            let ends = (0..joints.len()).filter(|&u| !joints.iter().any(|j| j.parent == Some(u))).count();
+            if ends <= 2 {
+                ImportError::NotHuman {
+                    reason: format!("{} joints with {ends} end(s): a human has two arms and two legs", joints.len()),
+                }
+            } else {
+                ImportError::MissingJoints { missing: e.missing, rig: e.rig.to_string() }
+            }
+        })?;
         let map = det.map;
         let mut inverse = vec![None; joints.len()];
         for (j, u) in map.iter().enumerate() {
@@ -169,9 +182,9 @@ impl UserRig {
         // Base pose: the rest pose if usable, else the scheme's table, else the best clip frame.
         let rest = vec![DQuat::IDENTITY; joints.len()];
         let rest_core = build(&joints, &rest_t, &map, &inverse, &rest);
+        let mut notes = Vec::new();
         let (base_local, core, base_name) = match (rest_core, det.base_pose) {
             (Ok(core), _) if core.max_swing <= MAX_REST_SWING_DEG.to_radians() => (rest, core, "rest".to_string()),
-            (Err(e), None) => return Err(e),
             (_, Some(table)) => {
                 let base: Vec<DQuat> = joints
                     .iter()
@@ -187,7 +200,7 @@ impl UserRig {
                 let core = build(&joints, &rest_t, &map, &inverse, &base)?;
                 (base, core, "table".to_string())
             }
-            (Ok(rest_core), None) => {
+            (rest_core, None) => {
                 // Take the clip frame needing the smallest swings.
                 let step = bvh.frames.div_ceil(MAX_BASE_CANDIDATES).max(1);
                 let mut best: Option<(Vec<DQuat>, Core, usize)> = None;
@@ -199,12 +212,41 @@ impl UserRig {
                         best = Some((base, core, f));
                     }
                 }
-                match best {
-                    Some((base, core, f)) if core.max_swing < rest_core.max_swing => (base, core, format!("frame {f}")),
-                    _ => (rest, rest_core, "rest".into()),
+                match (best, rest_core) {
+                    (Some((base, core, f)), Err(e)) => {
+                        notes.push(format!("the rest pose is degenerate ({e}): the reference pose is frame {f}"));
+                        (base, core, format!("frame {f}"))
+                    }
+                    (Some((base, core, f)), Ok(rc)) if core.max_swing < rc.max_swing => {
+                        notes.push(format!(
+                            "the rest pose is far from a T- or A-pose (a bone {:.0}° off): the reference pose is frame {f}",
+                            rc.max_swing.to_degrees()
+                        ));
+                        (base, core, format!("frame {f}"))
+                    }
+                    (_, Ok(rc)) => (rest, rc, "rest".into()),
+                    (None, Err(e)) => return Err(e),
                 }
             }
         };
+
+        check_human(&joints, &rest_t, &map, &base_local, core.world)?;
+        let synthesised: Vec<(String, String)> = (0..NUM_JOINTS)
+            .filter(|&j| map[j].is_none())
+            .map(|j| {
+                let how = match j {
+                    HEAD => "turns with the neck",
+                    TOES_L | TOES_R => "along the foot",
+                    SHOULDER_L | SHOULDER_R => "turns with the chest",
+                    _ => "along the spine (turns with the joint below)",
+                };
+                (JOINT_NAMES[j].to_string(), how.to_string())
+            })
+            .collect();
+        if !synthesised.is_empty() {
+            let names: Vec<&str> = synthesised.iter().map(|(j, _)| j.as_str()).collect();
+            notes.push(format!("synthesised on the canonical rig: {}", names.join(", ")));
+        }
 
         // The chain root … Hips and the joint carrying the translation.
         let hips = map[HIPS].expect("required");
@@ -236,6 +278,8 @@ impl UserRig {
                 floor: 0.0,
                 base_pose: base_name,
             },
+            synthesised,
+            notes,
             joints,
             rest_t,
             map,
@@ -264,6 +308,20 @@ impl UserRig {
     /// What was detected and derived.
     pub fn report(&self) -> &RigReport {
         &self.report
+    }
+
+    /// The canonical joints the rig lacks (those of [`RigReport::missing`]), each with how the
+    /// canonical rig makes it up: it turns with its parent (identity local rotation), so a head
+    /// turns with the neck, toes lie along the foot, a missing spine or chest joint follows the one
+    /// below it.
+    pub fn synthesised(&self) -> &[(String, String)] {
+        &self.synthesised
+    }
+
+    /// What the importer had to decide, in words: a reference pose taken from the motion (and why),
+    /// joints synthesised.
+    pub fn notes(&self) -> &[String] {
+        &self.notes
     }
 
     /// The user's skeleton (hierarchy and channels).

@@ -113,6 +113,204 @@ pub(super) const MIXAMO_TABLE: &[(usize, &[&str])] = &[
     (TOES_R, &["RightToeBase", "RightToe_End"]),
 ];
 
+// The tables below are compared after [`super::rigs::normalise`] (case, separators, namespaces and
+// `Bip01`-style prefixes dropped), so `L_Hip`, `l_hip` and `LHip` are one name. Spine and chest of
+// the schemes marked so in [`super::rigs::SCHEMES`] are then set from the structure (the chest is the
+// spine joint the arms hang from); the table's spine names are the fallback.
+
+/// Daz Studio / Poser, and old Second Life BVH (CMU's "Daz-friendly" conversion: `hip`, `abdomen`,
+/// `chest`, `neck`, `head`, `lCollar`, `lShldr`, `lForeArm`, `lHand`, `lButtock`, `lThigh`, `lShin`,
+/// `lFoot`); Daz Genesis (`abdomenLower`/`Upper`, `chestLower`/`Upper`, `neckLower`/`Upper`,
+/// `lShldrBend`, `lForearmBend`, `lThighBend`, `lMetatarsals`, `lToe`).
+pub(super) const DAZ_POSER_TABLE: &[(usize, &[&str])] = &[
+    (HIPS, &["hip", "hips"]),
+    (SPINE, &["abdomen", "abdomenUpper", "abdomenLower", "abdomen2"]),
+    (CHEST, &["chest", "chestUpper", "chestLower", "chest2"]),
+    (NECK, &["neck", "neckLower", "neckUpper", "neck1"]),
+    (HEAD, &["head"]),
+    (SHOULDER_L, &["lCollar"]),
+    (UPPER_ARM_L, &["lShldr", "lShldrBend", "lUpArm"]),
+    (LOWER_ARM_L, &["lForeArm", "lForearmBend", "lLoArm"]),
+    (HAND_L, &["lHand"]),
+    (SHOULDER_R, &["rCollar"]),
+    (UPPER_ARM_R, &["rShldr", "rShldrBend", "rUpArm"]),
+    (LOWER_ARM_R, &["rForeArm", "rForearmBend", "rLoArm"]),
+    (HAND_R, &["rHand"]),
+    (UPPER_LEG_L, &["lThigh", "lThighBend"]),
+    (LOWER_LEG_L, &["lShin"]),
+    (FOOT_L, &["lFoot"]),
+    (TOES_L, &["lToe", "lMetatarsals", "lToes"]),
+    (UPPER_LEG_R, &["rThigh", "rThighBend"]),
+    (LOWER_LEG_R, &["rShin"]),
+    (FOOT_R, &["rFoot"]),
+    (TOES_R, &["rToe", "rMetatarsals", "rToes"]),
+];
+
+/// Second Life's avatar skeleton (`mPelvis`, `mTorso`, `mChest`, `mNeck`, `mHead`, `mCollarLeft`,
+/// `mShoulderLeft`, `mElbowLeft`, `mWristLeft`, `mHipLeft`, `mKneeLeft`, `mAnkleLeft`, `mFootLeft`).
+pub(super) const SECOND_LIFE_TABLE: &[(usize, &[&str])] = &[
+    (HIPS, &["mPelvis"]),
+    (SPINE, &["mTorso", "mSpine2", "mSpine1"]),
+    (CHEST, &["mChest", "mSpine4", "mSpine3"]),
+    (NECK, &["mNeck"]),
+    (HEAD, &["mHead"]),
+    (SHOULDER_L, &["mCollarLeft"]),
+    (UPPER_ARM_L, &["mShoulderLeft"]),
+    (LOWER_ARM_L, &["mElbowLeft"]),
+    (HAND_L, &["mWristLeft"]),
+    (SHOULDER_R, &["mCollarRight"]),
+    (UPPER_ARM_R, &["mShoulderRight"]),
+    (LOWER_ARM_R, &["mElbowRight"]),
+    (HAND_R, &["mWristRight"]),
+    (UPPER_LEG_L, &["mHipLeft"]),
+    (LOWER_LEG_L, &["mKneeLeft"]),
+    (FOOT_L, &["mAnkleLeft"]),
+    (TOES_L, &["mFootLeft", "mToeLeft"]),
+    (UPPER_LEG_R, &["mHipRight"]),
+    (LOWER_LEG_R, &["mKneeRight"]),
+    (FOOT_R, &["mAnkleRight"]),
+    (TOES_R, &["mFootRight", "mToeRight"]),
+];
+
+/// Acclaim ASF bone names as BVH joints (each joint sits where its bone starts: `lfemur` at the hip,
+/// `lwrist` at the wrist): `root` or `pelvis`, `lhipjoint`, `lfemur`, `ltibia`, `lfoot`, `ltoes`,
+/// `lowerback`, `upperback`, `thorax`, `lowerneck`, `upperneck`, `head`, `lclavicle`, `lhumerus`,
+/// `lradius`, `lwrist`, `lhand`. As in CMU-31 (the same skeleton), `upperback` plays the spine and
+/// `upperneck` the neck; `lhand` is the hand where there is no `lwrist`.
+pub(super) const ACCLAIM_TABLE: &[(usize, &[&str])] = &[
+    (HIPS, &["pelvis", "root", "hip", "hips"]),
+    (SPINE, &["upperback", "lowerback"]),
+    (CHEST, &["thorax"]),
+    (NECK, &["upperneck", "lowerneck", "neck"]),
+    (HEAD, &["head"]),
+    (SHOULDER_L, &["lclavicle"]),
+    (UPPER_ARM_L, &["lhumerus"]),
+    (LOWER_ARM_L, &["lradius"]),
+    (HAND_L, &["lwrist", "lhand"]),
+    (SHOULDER_R, &["rclavicle"]),
+    (UPPER_ARM_R, &["rhumerus"]),
+    (LOWER_ARM_R, &["rradius"]),
+    (HAND_R, &["rwrist", "rhand"]),
+    (UPPER_LEG_L, &["lfemur"]),
+    (LOWER_LEG_L, &["ltibia"]),
+    (FOOT_L, &["lfoot"]),
+    (TOES_L, &["ltoes"]),
+    (UPPER_LEG_R, &["rfemur"]),
+    (LOWER_LEG_R, &["rtibia"]),
+    (FOOT_R, &["rfoot"]),
+    (TOES_R, &["rtoes"]),
+];
+
+/// HumanIK / MotionBuilder (`Hips`, `Spine` … `Spine9`, `Neck`, `Neck1`, `Head`, `LeftUpLeg`,
+/// `LeftUpLegRoll`, `LeftLeg`, `LeftFoot`, `LeftToeBase`, `LeftShoulder`, `LeftArm`, `LeftArmRoll`,
+/// `LeftForeArm`, `LeftHand`, any `Character1:` namespace), and Rokoko / Perception Neuron (the same
+/// names, Rokoko's `LeftThigh`, `LeftShin`, `LeftToe`). Roll bones stay unmatched.
+pub(super) const HUMANIK_TABLE: &[(usize, &[&str])] = &[
+    (HIPS, &["Hips"]),
+    (SPINE, &["Spine1", "Spine"]),
+    (CHEST, &["Spine2", "Spine1"]),
+    (NECK, &["Neck", "Neck1"]),
+    (HEAD, &["Head"]),
+    (SHOULDER_L, &["LeftShoulder"]),
+    (UPPER_ARM_L, &["LeftArm", "LeftUpperArm"]),
+    (LOWER_ARM_L, &["LeftForeArm", "LeftLowerArm"]),
+    (HAND_L, &["LeftHand"]),
+    (SHOULDER_R, &["RightShoulder"]),
+    (UPPER_ARM_R, &["RightArm", "RightUpperArm"]),
+    (LOWER_ARM_R, &["RightForeArm", "RightLowerArm"]),
+    (HAND_R, &["RightHand"]),
+    (UPPER_LEG_L, &["LeftUpLeg", "LeftThigh", "LeftUpperLeg"]),
+    (LOWER_LEG_L, &["LeftLeg", "LeftShin", "LeftLowerLeg"]),
+    (FOOT_L, &["LeftFoot"]),
+    (TOES_L, &["LeftToeBase", "LeftToe", "LeftToes"]),
+    (UPPER_LEG_R, &["RightUpLeg", "RightThigh", "RightUpperLeg"]),
+    (LOWER_LEG_R, &["RightLeg", "RightShin", "RightLowerLeg"]),
+    (FOOT_R, &["RightFoot"]),
+    (TOES_R, &["RightToeBase", "RightToe", "RightToes"]),
+];
+
+/// 3ds Max Biped (`Bip01 Pelvis`, `Bip01 Spine` … `Spine3`, `Bip01 Neck`, `Bip01 Head`,
+/// `Bip01 L Clavicle`, `L UpperArm`, `L Forearm`, `L Hand`, `L Thigh`, `L Calf`, `L Foot`, `L Toe0`;
+/// any `BipNN`/`BipNNN` prefix, spaces written as `_`). The `Bip01` root stays unmatched; the
+/// clavicles hang from the neck, so the chest is the spine joint below it.
+pub(super) const BIPED_TABLE: &[(usize, &[&str])] = &[
+    (HIPS, &["Pelvis"]),
+    (SPINE, &["Spine1", "Spine"]),
+    (CHEST, &["Spine2", "Spine1"]),
+    (NECK, &["Neck"]),
+    (HEAD, &["Head"]),
+    (SHOULDER_L, &["L_Clavicle"]),
+    (UPPER_ARM_L, &["L_UpperArm"]),
+    (LOWER_ARM_L, &["L_Forearm"]),
+    (HAND_L, &["L_Hand"]),
+    (SHOULDER_R, &["R_Clavicle"]),
+    (UPPER_ARM_R, &["R_UpperArm"]),
+    (LOWER_ARM_R, &["R_Forearm"]),
+    (HAND_R, &["R_Hand"]),
+    (UPPER_LEG_L, &["L_Thigh"]),
+    (LOWER_LEG_L, &["L_Calf"]),
+    (FOOT_L, &["L_Foot"]),
+    (TOES_L, &["L_Toe0", "L_Toe"]),
+    (UPPER_LEG_R, &["R_Thigh"]),
+    (LOWER_LEG_R, &["R_Calf"]),
+    (FOOT_R, &["R_Foot"]),
+    (TOES_R, &["R_Toe0", "R_Toe"]),
+];
+
+/// SMPL / SMPL-X (`Pelvis`, `L_Hip`, `L_Knee`, `L_Ankle`, `L_Foot`, `Spine1` … `Spine3`, `Neck`,
+/// `Head`, `L_Collar`, `L_Shoulder`, `L_Elbow`, `L_Wrist`, `L_Hand`; also `left_hip` …). The ankle is
+/// the foot joint, SMPL's foot the ball of the foot, its shoulder the upper arm and its wrist the hand.
+pub(super) const SMPL_TABLE: &[(usize, &[&str])] = &[
+    (HIPS, &["Pelvis"]),
+    (SPINE, &["Spine2", "Spine1", "Spine"]),
+    (CHEST, &["Spine3", "Chest", "Spine2"]),
+    (NECK, &["Neck"]),
+    (HEAD, &["Head"]),
+    (SHOULDER_L, &["L_Collar", "Left_Collar"]),
+    (UPPER_ARM_L, &["L_Shoulder", "Left_Shoulder"]),
+    (LOWER_ARM_L, &["L_Elbow", "Left_Elbow"]),
+    (HAND_L, &["L_Wrist", "Left_Wrist"]),
+    (SHOULDER_R, &["R_Collar", "Right_Collar"]),
+    (UPPER_ARM_R, &["R_Shoulder", "Right_Shoulder"]),
+    (LOWER_ARM_R, &["R_Elbow", "Right_Elbow"]),
+    (HAND_R, &["R_Wrist", "Right_Wrist"]),
+    (UPPER_LEG_L, &["L_Hip", "Left_Hip"]),
+    (LOWER_LEG_L, &["L_Knee", "Left_Knee"]),
+    (FOOT_L, &["L_Ankle", "Left_Ankle"]),
+    (TOES_L, &["L_Foot", "Left_Foot"]),
+    (UPPER_LEG_R, &["R_Hip", "Right_Hip"]),
+    (LOWER_LEG_R, &["R_Knee", "Right_Knee"]),
+    (FOOT_R, &["R_Ankle", "Right_Ankle"]),
+    (TOES_R, &["R_Foot", "Right_Foot"]),
+];
+
+/// Unreal Engine's mannequin (`root`, `pelvis`, `spine_01` … `spine_05`, `neck_01`, `head`,
+/// `clavicle_l`, `upperarm_l`, `lowerarm_l`, `hand_l`, `thigh_l`, `calf_l`, `foot_l`, `ball_l`; twist
+/// bones unmatched).
+pub(super) const UNREAL_TABLE: &[(usize, &[&str])] = &[
+    (HIPS, &["pelvis"]),
+    (SPINE, &["spine_02", "spine_01"]),
+    (CHEST, &["spine_03", "spine_02"]),
+    (NECK, &["neck_01", "neck_02"]),
+    (HEAD, &["head"]),
+    (SHOULDER_L, &["clavicle_l"]),
+    (UPPER_ARM_L, &["upperarm_l"]),
+    (LOWER_ARM_L, &["lowerarm_l"]),
+    (HAND_L, &["hand_l"]),
+    (SHOULDER_R, &["clavicle_r"]),
+    (UPPER_ARM_R, &["upperarm_r"]),
+    (LOWER_ARM_R, &["lowerarm_r"]),
+    (HAND_R, &["hand_r"]),
+    (UPPER_LEG_L, &["thigh_l"]),
+    (LOWER_LEG_L, &["calf_l"]),
+    (FOOT_L, &["foot_l"]),
+    (TOES_L, &["ball_l"]),
+    (UPPER_LEG_R, &["thigh_r"]),
+    (LOWER_LEG_R, &["calf_r"]),
+    (FOOT_R, &["foot_r"]),
+    (TOES_R, &["ball_r"]),
+];
+
 /// Prefixes of common exporters, dropped by the generic matcher (after lower-casing).
 pub(super) const GENERIC_PREFIXES: [&str; 10] =
     ["cc_base_", "bip01_", "bip01 ", "bip001 ", "bip001_", "def-", "def_", "jnt_", "j_", "b_"];

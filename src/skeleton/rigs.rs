@@ -12,10 +12,11 @@ use super::canonical::{JOINT_NAMES, NUM_JOINTS, PARENTS, joint::*};
 use super::rig_names::*;
 use crate::bvh::BvhJoint;
 
-/// Canonical joints every rig must provide (plus at least one of Spine and Chest).
-pub const REQUIRED: [usize; 14] = [
+/// Canonical joints every rig must provide: the essential parts, Hips, both legs down to the foot and
+/// both arms down to the hand. The others (Spine, Chest, Neck, Head, Shoulders, Toes) are
+/// synthesised on the canonical rig when missing (see [`super::retarget`]).
+pub const REQUIRED: [usize; 13] = [
     HIPS,
-    HEAD,
     UPPER_ARM_L,
     LOWER_ARM_L,
     HAND_L,
@@ -47,6 +48,9 @@ pub struct Scheme {
     eligible: fn(&[BvhJoint], &[String]) -> bool,
     /// Base pose to use instead of the zero-rotation rest pose.
     pub base_pose: Option<BasePose>,
+    /// Whether Spine and Chest come from the structure ([`spine_from_structure`]): rigs with a
+    /// variable number of spine joints.
+    structural_spine: bool,
 }
 
 /// Result of [`detect`].
@@ -64,16 +68,24 @@ pub struct Unmatched {
     pub missing: Vec<String>,
 }
 
-/// Lower-case name without any `namespace:` (or `a|b:`) prefix and without a `mixamorigN_` prefix.
+/// The name a table entry is compared by: the part after any `namespace:` (or `a|b:`) prefix,
+/// lower-case, without separators (`_`, `-`, `.`, spaces), without a `mixamorigN` prefix and without a
+/// 3ds Max `BipNN` prefix (`Bip01_L_Thigh` → `lthigh`; the `Bip01` root itself stays `bip01`).
 pub fn normalise(name: &str) -> String {
-    let tail = name.rsplit([':', '|']).next().unwrap_or(name).to_ascii_lowercase();
-    match tail.strip_prefix("mixamorig") {
-        Some(rest) => {
-            let rest = rest.trim_start_matches(|c: char| c.is_ascii_digit());
-            rest.strip_prefix('_').unwrap_or(rest).to_string()
-        }
-        None => tail,
+    let tail = name.rsplit([':', '|']).next().unwrap_or(name);
+    let s: String =
+        tail.chars().filter(|c| !matches!(c, '_' | '-' | '.' | ' ')).map(|c| c.to_ascii_lowercase()).collect();
+    let digits = |c: char| c.is_ascii_digit();
+    if let Some(rest) = s.strip_prefix("mixamorig") {
+        return rest.trim_start_matches(digits).to_string();
     }
+    if let Some(rest) = s.strip_prefix("bip") {
+        let r = rest.trim_start_matches(digits);
+        if r.len() < rest.len() && !r.is_empty() {
+            return r.to_string();
+        }
+    }
+    s
 }
 
 fn always(_: &[BvhJoint], _: &[String]) -> bool {
@@ -84,23 +96,80 @@ fn has(names: &[String], n: &str) -> bool {
     names.iter().any(|x| x == n)
 }
 
+fn any(names: &[String], f: impl Fn(&str) -> bool) -> bool {
+    names.iter().any(|x| f(x))
+}
+
+/// A scheme of `table` with a fixed name and eligibility.
+const fn scheme(
+    name: &'static str,
+    table: &'static [(usize, &'static [&'static str])],
+    eligible: fn(&[BvhJoint], &[String]) -> bool,
+    structural_spine: bool,
+) -> Scheme {
+    Scheme { name, table, eligible, base_pose: None, structural_spine }
+}
+
 /// The naming schemes, in tie-breaking order.
-pub static SCHEMES: [Scheme; 5] = [
-    Scheme { name: "bandai", table: BANDAI_TABLE, eligible: always, base_pose: Some(BANDAI_BASE_POSE) },
+pub static SCHEMES: [Scheme; 12] = [
     Scheme {
-        name: "cmu31",
-        table: CMU31_TABLE,
-        eligible: |_, n| has(n, "lhipjoint") || has(n, "lowerback"),
-        base_pose: None,
+        name: "bandai",
+        table: BANDAI_TABLE,
+        eligible: always,
+        base_pose: Some(BANDAI_BASE_POSE),
+        structural_spine: false,
     },
-    Scheme { name: "m21", table: CMU31_TABLE, eligible: |_, n| has(n, "neck1"), base_pose: None },
-    Scheme { name: "cc_base", table: CC_BASE_TABLE, eligible: always, base_pose: Some(CC_BASE_POSE) },
+    scheme("cmu31", CMU31_TABLE, |_, n| has(n, "lhipjoint") || has(n, "lowerback"), false),
+    scheme("m21", CMU31_TABLE, |_, n| has(n, "neck1"), false),
     Scheme {
-        name: "mixamo",
-        table: MIXAMO_TABLE,
-        eligible: |j, n| has(n, "spine2") || j.iter().any(|j| j.name.to_ascii_lowercase().contains("mixamorig")),
-        base_pose: None,
+        name: "cc_base",
+        table: CC_BASE_TABLE,
+        eligible: always,
+        base_pose: Some(CC_BASE_POSE),
+        structural_spine: false,
     },
+    scheme(
+        "daz_poser",
+        DAZ_POSER_TABLE,
+        |_, n| has(n, "abdomen") || has(n, "abdomenlower") || has(n, "lshldr") || has(n, "lshldrbend"),
+        false,
+    ),
+    scheme("second_life", SECOND_LIFE_TABLE, |_, n| has(n, "mpelvis") || has(n, "mtorso"), false),
+    scheme("acclaim", ACCLAIM_TABLE, |_, n| has(n, "lfemur") || has(n, "lhumerus"), false),
+    scheme(
+        "humanik",
+        HUMANIK_TABLE,
+        |_, n| {
+            any(n, |x| x.ends_with("roll") || x.starts_with("lefthandthumb") || x.starts_with("leftinhand"))
+                || has(n, "spine3")
+                || has(n, "leftthigh")
+        },
+        true,
+    ),
+    scheme(
+        "mixamo",
+        MIXAMO_TABLE,
+        |j, n| has(n, "spine2") || j.iter().any(|j| j.name.to_ascii_lowercase().contains("mixamorig")),
+        false,
+    ),
+    scheme(
+        "biped",
+        BIPED_TABLE,
+        |j, _| {
+            j.iter().any(|j| {
+                let l = j.name.to_ascii_lowercase();
+                l.strip_prefix("bip").is_some_and(|r| r.starts_with(|c: char| c.is_ascii_digit()))
+            })
+        },
+        true,
+    ),
+    scheme(
+        "smpl",
+        SMPL_TABLE,
+        |_, n| has(n, "lknee") || has(n, "leftknee") || has(n, "lelbow") || has(n, "leftelbow"),
+        true,
+    ),
+    scheme("unreal", UNREAL_TABLE, |_, n| has(n, "spine01") || has(n, "claviclel") || has(n, "thighl"), true),
 ];
 
 /// Name of the generic fallback.
@@ -112,7 +181,11 @@ pub fn detect(joints: &[BvhJoint]) -> Result<Detection, Unmatched> {
     let mut candidates: Vec<(&'static str, JointMap, Option<BasePose>)> = Vec::new();
     for s in &SCHEMES {
         if (s.eligible)(joints, &normalised) {
-            candidates.push((s.name, validate(joints, match_table(&normalised, s.table)), s.base_pose));
+            let mut map = validate(joints, match_table(&normalised, s.table));
+            if s.structural_spine {
+                map = validate(joints, spine_from_structure(joints, map));
+            }
+            candidates.push((s.name, map, s.base_pose));
         }
     }
     candidates.push((GENERIC, validate(joints, match_generic(joints)), None));
@@ -134,13 +207,9 @@ pub fn detect(joints: &[BvhJoint]) -> Result<Detection, Unmatched> {
     Err(Unmatched { rig, missing: missing_required(map) })
 }
 
-/// Names of the required canonical joints `map` lacks (`Spine` and `Chest` when both are missing).
+/// Names of the required canonical joints `map` lacks.
 pub fn missing_required(map: &JointMap) -> Vec<String> {
-    let no_spine = map[SPINE].is_none() && map[CHEST].is_none();
-    (0..NUM_JOINTS)
-        .filter(|&j| map[j].is_none() && (REQUIRED.contains(&j) || (no_spine && (j == SPINE || j == CHEST))))
-        .map(|j| JOINT_NAMES[j].to_string())
-        .collect()
+    (0..NUM_JOINTS).filter(|&j| map[j].is_none() && REQUIRED.contains(&j)).map(|j| JOINT_NAMES[j].to_string()).collect()
 }
 
 fn match_table(normalised: &[String], table: &[(usize, &[&str])]) -> JointMap {
@@ -156,6 +225,54 @@ fn match_table(normalised: &[String], table: &[(usize, &[&str])]) -> JointMap {
                 break;
             }
         }
+    }
+    map
+}
+
+/// The user joints from the root down to `u` (root first); empty if the hierarchy loops.
+pub(super) fn path_to(joints: &[BvhJoint], u: usize) -> Vec<usize> {
+    let mut path = vec![u];
+    let mut cur = u;
+    while let Some(p) = joints.get(cur).and_then(|j| j.parent) {
+        if path.len() > joints.len() {
+            return Vec::new();
+        }
+        path.push(p);
+        cur = p;
+    }
+    path.reverse();
+    path
+}
+
+/// Spine and Chest from the structure: on the chain from the Hips up to the Head, the Chest is the
+/// joint the two upper arms branch from (the one below it where that is the Neck, as in 3ds Max
+/// Biped, whose clavicles hang from the neck), the Spine the joint below the Chest (none when the
+/// Chest sits on the Hips), the Neck the joint above the Chest when no name gave one. Unchanged when
+/// the arms do not branch from that chain.
+pub(super) fn spine_from_structure(joints: &[BvhJoint], mut map: JointMap) -> JointMap {
+    let (Some(hips), Some(head), Some(al), Some(ar)) = (map[HIPS], map[HEAD], map[UPPER_ARM_L], map[UPPER_ARM_R])
+    else {
+        return map;
+    };
+    let chain = path_to(joints, head);
+    let Some(h) = chain.iter().position(|&u| u == hips) else { return map };
+    let chain = &chain[h..]; // Hips … Head
+    let (pl, pr) = (path_to(joints, al), path_to(joints, ar));
+    let branch = pl.iter().zip(&pr).take_while(|(a, b)| a == b).map(|(a, _)| *a).last();
+    let Some(mut k) = branch.and_then(|b| chain.iter().position(|&u| u == b)) else { return map };
+    if k + 1 >= chain.len() {
+        return map; // the arms branch from the Head
+    }
+    if map[NECK] == Some(chain[k]) && k >= 2 {
+        k -= 1;
+    }
+    if k == 0 {
+        return map; // the arms hang from the Hips: leave the names' guess
+    }
+    map[CHEST] = Some(chain[k]);
+    map[SPINE] = (k >= 2).then(|| chain[k - 1]);
+    if map[NECK].is_none_or(|n| !chain[k + 1..chain.len() - 1].contains(&n)) {
+        map[NECK] = (k + 2 < chain.len()).then(|| chain[k + 1]);
     }
     map
 }
@@ -296,7 +413,12 @@ mod tests {
         assert_eq!(normalise("mixamorig1:LeftArm"), "leftarm");
         assert_eq!(normalise("mixamorig_LeftArm"), "leftarm");
         assert_eq!(normalise("Armature|Hips"), "hips");
-        assert_eq!(normalise("CC_Base_L_Thigh"), "cc_base_l_thigh");
+        assert_eq!(normalise("CC_Base_L_Thigh"), "ccbaselthigh");
+        assert_eq!(normalise("Bip01_L_Thigh"), "lthigh");
+        assert_eq!(normalise("Bip001_Spine1"), "spine1");
+        assert_eq!(normalise("Bip01"), "bip01");
+        assert_eq!(normalise("Character1:Left-Up_Leg"), "leftupleg");
+        assert_eq!(normalise("spine_01"), normalise("Spine01"));
     }
 
     #[test]
@@ -340,7 +462,7 @@ mod tests {
             ("right_wrist", Some(20)),
         ]);
         let d = detect(&j).unwrap();
-        assert_eq!(d.rig, GENERIC);
+        assert_eq!(d.rig, "smpl");
         let name = |c: usize| d.map[c].map(|u| j[u].name.as_str());
         assert_eq!(name(HIPS), Some("pelvis"));
         assert_eq!(name(UPPER_LEG_L), Some("left_hip"));
@@ -351,8 +473,51 @@ mod tests {
         assert_eq!(name(SHOULDER_R), Some("right_collar"));
         assert_eq!(name(UPPER_ARM_R), Some("right_shoulder"));
         assert_eq!(name(HAND_R), Some("right_wrist"));
-        assert_eq!(name(CHEST), Some("spine2"));
-        assert_eq!(name(SPINE), Some("spine1"));
+        // The collars hang from spine3: the chest, from the structure.
+        assert_eq!(name(CHEST), Some("spine3"));
+        assert_eq!(name(SPINE), Some("spine2"));
+        assert_eq!(name(NECK), Some("neck"));
+        // The generic matcher alone reads the same names.
+        let g = validate(&j, match_generic(&j));
+        assert_eq!(g[HAND_R].map(|u| j[u].name.as_str()), Some("right_wrist"));
+        assert_eq!(g[TOES_L].map(|u| j[u].name.as_str()), Some("left_foot"));
+    }
+
+    #[test]
+    fn structure_sets_spine_and_chest() {
+        // Biped: clavicles under the neck; the chest is the spine joint below it.
+        let j = rig(&[
+            ("Bip01", None),
+            ("Bip01_Pelvis", Some(0)),
+            ("Bip01_Spine", Some(1)),
+            ("Bip01_L_Thigh", Some(2)),
+            ("Bip01_L_Calf", Some(3)),
+            ("Bip01_L_Foot", Some(4)),
+            ("Bip01_R_Thigh", Some(2)),
+            ("Bip01_R_Calf", Some(6)),
+            ("Bip01_R_Foot", Some(7)),
+            ("Bip01_Spine1", Some(2)),
+            ("Bip01_Spine2", Some(9)),
+            ("Bip01_Spine3", Some(10)),
+            ("Bip01_Neck", Some(11)),
+            ("Bip01_Head", Some(12)),
+            ("Bip01_L_Clavicle", Some(12)),
+            ("Bip01_L_UpperArm", Some(14)),
+            ("Bip01_L_Forearm", Some(15)),
+            ("Bip01_L_Hand", Some(16)),
+            ("Bip01_R_Clavicle", Some(12)),
+            ("Bip01_R_UpperArm", Some(18)),
+            ("Bip01_R_Forearm", Some(19)),
+            ("Bip01_R_Hand", Some(20)),
+        ]);
+        let d = detect(&j).unwrap();
+        assert_eq!(d.rig, "biped");
+        let name = |c: usize| d.map[c].map(|u| j[u].name.as_str());
+        assert_eq!(
+            (name(HIPS), name(SPINE), name(CHEST), name(NECK)),
+            (Some("Bip01_Pelvis"), Some("Bip01_Spine2"), Some("Bip01_Spine3"), Some("Bip01_Neck"))
+        );
+        assert_eq!((name(UPPER_LEG_R), name(SHOULDER_L)), (Some("Bip01_R_Thigh"), Some("Bip01_L_Clavicle")));
     }
 
     #[test]

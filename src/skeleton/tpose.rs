@@ -34,14 +34,22 @@ const ARM_R: [usize; 4] = [SHOULDER_R, UPPER_ARM_R, LOWER_ARM_R, HAND_R];
 const LEG_L: [usize; 4] = [UPPER_LEG_L, LOWER_LEG_L, FOOT_L, TOES_L];
 const LEG_R: [usize; 4] = [UPPER_LEG_R, LOWER_LEG_R, FOOT_R, TOES_R];
 
+/// Where a bone points: a canonical joint, or the midpoint of the two upper arms (the top of the
+/// torso of a rig without a matched joint above: no spine, or no neck and head).
+#[derive(Clone, Copy)]
+enum Target {
+    Joint(usize),
+    ArmsMid,
+}
+
 /// How a matched joint's T-pose rotation is found.
 enum Aim {
     /// Leaf: inherit.
     None,
     /// Swing the bone towards canonical joint `to`.
-    Swing(usize),
-    /// Align up (towards canonical joint `up`) and across (left joint minus right joint).
-    Two { up: usize, left: usize, right: usize },
+    Swing(Target),
+    /// Align up (towards `up`) and across (left joint minus right joint).
+    Two { up: Target, left: usize, right: usize },
 }
 
 /// T-pose, world basis and scale of a rig in base pose `base_local`.
@@ -69,11 +77,16 @@ pub(super) fn build(
     let first_pair =
         |pairs: (&[usize], &[usize])| pairs.0.iter().zip(pairs.1).map(|(&l, &r)| (l, r)).find(|&(l, r)| distinct(l, r));
 
-    // World basis.
-    let up = p(HEAD).expect("required") - pos0[hips];
+    let arms_mid = |pos: &[DVec3]| -> DVec3 {
+        let (l, r) = (map[UPPER_ARM_L].expect("required"), map[UPPER_ARM_R].expect("required"));
+        (pos[l] + pos[r]) / 2.0
+    };
+    // World basis: up towards the Head, or the highest matched joint of the spine, or the arms.
+    let top = [HEAD, NECK, CHEST, SPINE].into_iter().find_map(|j| p(j).filter(|x| (*x - pos0[hips]).length() > eps));
+    let up = top.unwrap_or_else(|| arms_mid(&pos0)) - pos0[hips];
     let (l, r) = first_pair((&LEG_L, &LEG_R)).ok_or_else(|| degenerate("the left and right legs coincide"))?;
     if up.length() <= eps {
-        return Err(degenerate("the Head is at the Hips"));
+        return Err(degenerate("the upper body is at the Hips"));
     }
     let world = world_basis(up, p(l).expect("matched") - p(r).expect("matched"))
         .ok_or_else(|| degenerate("cannot tell up from left: the hips line up with the Head"))?;
@@ -95,9 +108,17 @@ pub(super) fn build(
         let start = list.iter().position(|&x| x == j).map(|i| i + 1).unwrap_or(0);
         list[start..].iter().copied().find(|&x| map[x].is_some() && distinct(j, x))
     };
+    // Up from `j`: the next matched spine joint, else the arms' midpoint (when it is above `j`).
+    let up_from = |j: usize| -> Option<Target> {
+        if let Some(x) = first_after(j, &CENTRE) {
+            return Some(Target::Joint(x));
+        }
+        let u = map[j]?;
+        ((arms_mid(&pos0) - pos0[u]).length() > eps).then_some(Target::ArmsMid)
+    };
     let aim = |j: usize| -> Result<Aim, ImportError> {
         if j == HIPS || j == arm_root {
-            let up = first_after(j, &CENTRE).ok_or_else(|| degenerate("the spine has no length"))?;
+            let up = up_from(j).ok_or_else(|| degenerate("the spine has no length"))?;
             let pairs = if j == HIPS { (&LEG_L, &LEG_R) } else { (&ARM_L, &ARM_R) };
             return match first_pair((pairs.0, pairs.1)) {
                 Some((left, right)) => Ok(Aim::Two { up, left, right }),
@@ -110,10 +131,17 @@ pub(super) fn build(
             .find(|c| c.contains(&j))
             .map(|c| c.as_slice())
             .unwrap_or(&[]);
-        Ok(first_after(j, chain).map(Aim::Swing).unwrap_or(Aim::None))
+        let next = first_after(j, chain).map(Target::Joint);
+        // The top of a spine without neck and head points at the arms.
+        let next = next.or_else(|| if CENTRE.contains(&j) { up_from(j) } else { None });
+        Ok(next.map(Aim::Swing).unwrap_or(Aim::None))
+    };
+    let can = canonical_tpose();
+    let can_at = |t: Target| match t {
+        Target::Joint(x) => can[x],
+        Target::ArmsMid => (can[UPPER_ARM_L] + can[UPPER_ARM_R]) / 2.0,
     };
 
-    let can = canonical_tpose();
     let mut t_global = vec![DQuat::IDENTITY; joints.len()];
     let mut max_swing = 0.0f64;
     for (u, joint) in joints.iter().enumerate() {
@@ -125,13 +153,18 @@ pub(super) fn build(
         let Some(j) = inverse[u] else { continue };
         // Vector from u to a user joint, in the current (partly corrected) pose, canonical world.
         let g0_inv = g0[u].inverse();
-        let vec_to = |x: usize| world * (cur * (g0_inv * (pos0[map[x].expect("matched")] - pos0[u])));
+        let vec_to_pos = |x: DVec3| world * (cur * (g0_inv * (x - pos0[u])));
+        let vec_to = |x: usize| vec_to_pos(pos0[map[x].expect("matched")]);
+        let target = |t: Target| match t {
+            Target::Joint(x) => vec_to(x),
+            Target::ArmsMid => vec_to_pos(arms_mid(&pos0)),
+        };
         let s = match aim(j)? {
             Aim::None => DQuat::IDENTITY,
-            Aim::Swing(x) => swing(vec_to(x), can[x] - can[j], DVec3::Z)
+            Aim::Swing(x) => swing(target(x), can_at(x) - can[j], DVec3::Z)
                 .ok_or_else(|| degenerate(format!("bone {} has no direction", JOINT_NAMES[j])))?,
             Aim::Two { up, left, right } => {
-                align_two(vec_to(up), vec_to(left) - vec_to(right), can[up] - can[j], can[left] - can[right])
+                align_two(target(up), vec_to(left) - vec_to(right), can_at(up) - can[j], can[left] - can[right])
                     .ok_or_else(|| degenerate(format!("{}: up and across are parallel", JOINT_NAMES[j])))?
             }
         };
@@ -156,6 +189,73 @@ pub(super) fn build(
         return Err(degenerate("the legs have no height"));
     }
     Ok(Core { t_global, world, scale, max_swing })
+}
+
+/// Whether the matched skeleton in its base pose `base_local` (world basis `world`) can be a standing
+/// human: both legs point down from the hips (their ends at least 40 % of the leg's length below),
+/// the top of the torso (the upper arms' midpoint) is above the hips, the hands are off the floor
+/// (a quarter of the hips' height up: not front paws) and the hips are apart.
+pub(super) fn check_human(
+    joints: &[BvhJoint],
+    rest_t: &[DVec3],
+    map: &JointMap,
+    base_local: &[DQuat],
+    world: DQuat,
+) -> Result<(), ImportError> {
+    let (pos, _) =
+        super::fk::forward_kinematics_vec(joints.len(), |u| joints[u].parent, |u| (rest_t[u], base_local[u]));
+    let at = |j: usize| map[j].map(|u| pos[u]);
+    let (Some(hips), Some(al), Some(ar)) = (at(HIPS), at(UPPER_ARM_L), at(UPPER_ARM_R)) else {
+        return Err(degenerate("the hips or an arm is missing"));
+    };
+    let up = world.inverse() * DVec3::Y;
+    let not_human = |reason: String| Err(ImportError::NotHuman { reason });
+    let mut lowest = f64::INFINITY;
+    let mut leg_sum = 0.0;
+    for (side, leg) in [("left", LEG_L), ("right", LEG_R)] {
+        let pts: Vec<DVec3> = leg.iter().filter_map(|&j| at(j)).collect();
+        let len: f64 = std::iter::once(hips)
+            .chain(pts.iter().copied())
+            .collect::<Vec<_>>()
+            .windows(2)
+            .map(|w| (w[1] - w[0]).length())
+            .sum();
+        let end = *pts.last().unwrap_or(&hips);
+        let drop = up.dot(hips - end);
+        if !(len > 0.0 && drop >= 0.4 * len) {
+            return not_human(format!(
+                "the {side} leg does not point down from the hips ({:.0} % of its length below them): \
+                 not a standing human (a quadruped, or limbs the wrong way)",
+                100.0 * drop / len.max(f64::MIN_POSITIVE)
+            ));
+        }
+        lowest = lowest.min(pts.iter().map(|p| up.dot(*p)).fold(f64::INFINITY, f64::min));
+        leg_sum += len;
+    }
+    let leg = leg_sum / 2.0;
+    let torso = up.dot((al + ar) / 2.0 - hips);
+    if torso < 0.15 * leg {
+        return not_human(format!(
+            "the arms are not above the hips (torso {:.0} % of the leg length): not an upright human",
+            100.0 * torso / leg
+        ));
+    }
+    let height = up.dot(hips) - lowest;
+    for (side, j) in [("left", HAND_L), ("right", HAND_R)] {
+        let hand = at(j).map(|h| up.dot(h) - lowest).unwrap_or(0.0);
+        if hand < 0.25 * height {
+            return not_human(format!(
+                "the {side} hand is on the floor in the reference pose: front legs, not arms (a quadruped?)"
+            ));
+        }
+    }
+    let (Some(l), Some(r)) = (at(UPPER_LEG_L), at(UPPER_LEG_R)) else {
+        return Err(degenerate("a leg is missing"));
+    };
+    if (l - r).length() < 0.02 * leg {
+        return Err(degenerate("the left and right hips coincide"));
+    }
+    Ok(())
 }
 
 #[cfg(test)]
