@@ -25,7 +25,8 @@ demo:
 	done
 	./target/release/motion-stylizer stylize tests/fixtures/bandai/dataset-2_walk_normal_001_f120.bvh \
 	  --style-motion tests/fixtures/bandai/dataset-2_walk_elderly_001_f120.bvh --unsupervised -o $(DEMO_OUT)/walk_normal.like_elderly.bvh
-	@echo "Demo outputs in $(DEMO_OUT)/ (open the .bvh files in any BVH viewer)"
+	./target/release/motion-stylizer stylize tests/fixtures/foreign/m21_walk.bvh --label old --seed 1 -o $(DEMO_OUT)/m21_walk.old.glb
+	@echo "Demo outputs in $(DEMO_OUT)/ (open the .bvh files in any BVH viewer, the .glb in Blender or any glTF viewer)"
 	$(MAKE) --no-print-directory www
 	node scripts/serve-www.mjs out/www --port $(WWW_PORT)
 

@@ -3,6 +3,8 @@
 //! and posed frame by frame: every joint's world position must be the BVH's (written by the same
 //! command with `-o OUT.bvh`) in metres, Y up.
 
+mod support;
+
 use glam::{DQuat, DVec3};
 use motion_stylizer::bvh::Bvh;
 use motion_stylizer::skeleton::UserRig;
@@ -181,6 +183,43 @@ fn retarget_onto_a_user_rig_writes_glb_in_metres_y_up() {
         let options = motion_stylizer::gltf::GltfOptions::for_rig(user.report());
         assert!((options.metres_per_unit - user.scale() / 100.0).abs() < 1e-15);
         assert_matches(&Glb::read(&glb_out), &bvh, options.metres_per_unit, options.orientation);
+    }
+}
+
+#[test]
+fn other_worlds_and_units_give_the_same_glb_pose() {
+    // A rig in Z-up, facing -Z and Z-up-facing-X worlds, in other units: its .glb is in metres, Y up,
+    // facing +Z, so it poses every joint where the original rig's .glb does.
+    let canonical = temp("worlds-src.bvh");
+    ok(&["retarget", &fixture("bandai/dataset-2_walk_elderly_001_f120.bvh"), "-o", s(&canonical)]);
+    let rig = support::fixture("foreign", "m21_walk");
+    let posed_onto = |rig: &Bvh, name: &str| {
+        let rig_path = temp(&format!("{name}.rig.bvh"));
+        std::fs::write(&rig_path, rig.to_bvh_string()).unwrap();
+        let (bvh_out, glb_out) = (temp(&format!("{name}.bvh")), temp(&format!("{name}.glb")));
+        ok(&["retarget", s(&canonical), "--onto", s(&rig_path), "-o", s(&bvh_out)]);
+        ok(&["retarget", s(&canonical), "--onto", s(&rig_path), "-o", s(&glb_out)]);
+        let bvh = Bvh::parse(&std::fs::read_to_string(&bvh_out).unwrap()).unwrap();
+        let options = motion_stylizer::gltf::GltfOptions::for_rig(UserRig::from_bvh(rig).unwrap().report());
+        let glb = Glb::read(&glb_out);
+        assert_matches(&glb, &bvh, options.metres_per_unit, options.orientation);
+        glb.posed(bvh.joints.len())
+    };
+    let original = posed_onto(&rig, "world-original");
+    let quarter_x = DQuat::from_rotation_x(std::f64::consts::FRAC_PI_2);
+    let worlds = [
+        ("z-up", quarter_x, 2.54),
+        ("facing-back", DQuat::from_rotation_y(std::f64::consts::PI), 0.01),
+        ("z-up-facing-x", DQuat::from_rotation_z(-std::f64::consts::FRAC_PI_2) * quarter_x, 10.0),
+    ];
+    for (name, q, scale) in worlds {
+        let posed = posed_onto(&support::transform_world(&rig, q, scale), name);
+        let worst = posed
+            .iter()
+            .zip(&original)
+            .flat_map(|(a, b)| a.iter().zip(b).map(|(p, q)| (*p - *q).length()))
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-4, "{name}: {worst} m from the original world's pose");
     }
 }
 
