@@ -319,8 +319,8 @@ export class StylizedMotion {
 
   /**
    * Binary glTF (.glb bytes, Uint8Array): the skeleton as nodes with a skin and a mesh of bone
-   * shapes, and one animation over the clip, in metres, Y up, facing +Z (the bytes the native CLI
-   * writes for `-o out.glb`).
+   * shapes, and one animation over the clip, in metres, Y up, facing +Z (what the native CLI writes
+   * for `-o out.glb`, by the same Rust code).
    */
   toGlb() {
     const output = this.#live();

@@ -111,6 +111,10 @@ test('the 3D view draws the bodies, moves between frames and orbits with the mou
   await page.mouse.down();
   await page.mouse.move(box.x + box.width / 2 + 160, box.y + box.height / 2 + 20, { steps: 8 });
   await page.mouse.up();
+  // The page handles the pointer events in its own time (a software renderer may be busy): wait.
+  await page
+    .waitForFunction((from) => Math.hypot(...window.__demo.view3d.camera.position.toArray().map((c, i) => c - from[i])) > 0.3, from, { timeout: 5000 })
+    .catch(() => {});
   const to = await camera();
   assert.ok(Math.hypot(...to.map((c, i) => c - from[i])) > 0.3, `the camera moved: ${from} → ${to}`);
   const [orbited, again] = await pictures(page, [null, null]);
