@@ -15,7 +15,8 @@ pub enum GltfError {
     /// More joints than a skin's 16-bit joint indices can address.
     #[error("{joints} joints: a glTF skin here holds at most {max}")]
     TooManyJoints { joints: usize, max: usize },
-    /// A clip whose keyframe times collapse in 32-bit floats, or a binary chunk beyond 4 GiB.
+    /// More joint keyframes than [`MAX_KEYS`](super::MAX_KEYS), keyframe times that collapse in
+    /// 32-bit floats, or a binary chunk beyond 4 GiB.
     #[error("the motion is too long for glTF: {reason}")]
     TooLarge { reason: String },
 }

@@ -87,6 +87,10 @@ fn signed_axis(name: &str) -> Option<DVec3> {
 /// Skins address their joints with 16-bit indices here.
 pub const MAX_JOINTS: usize = u16::MAX as usize;
 
+/// At most this many joint keyframes (frames × joints): ~450 MB of pose in memory, ~220 MB of
+/// `.glb` (e.g. 9,000 frames of a 900-joint rig, or 3.5 hours of a 21-joint one at 30 fps).
+pub const MAX_KEYS: usize = 8_000_000;
+
 /// A BVH's skeleton and motion in glTF space: what the `.glb` holds, and what the npm package's
 /// three.js helper builds its `Skeleton` and `AnimationClip` from.
 #[derive(Clone, Debug, PartialEq)]
@@ -206,6 +210,10 @@ fn check(bvh: &Bvh, options: &GltfOptions) -> Result<(), GltfError> {
     }
     if n > MAX_JOINTS {
         return Err(GltfError::TooManyJoints { joints: n, max: MAX_JOINTS });
+    }
+    if bvh.frames.checked_mul(n).is_none_or(|keys| keys > MAX_KEYS) {
+        let reason = format!("{} frames of {n} joints: more than {MAX_KEYS} joint keyframes", bvh.frames);
+        return Err(GltfError::TooLarge { reason });
     }
     let malformed = |reason: String| Err(GltfError::Malformed { reason });
     let mut channel_offset = 0;
@@ -336,6 +344,13 @@ mod tests {
         let mut b = good.clone();
         b.frame_time = 0.0;
         assert!(matches!(to_glb(&b, &GltfOptions::canonical()), Err(GltfError::NonFinite { .. })));
+        // Too many keyframes: refused before anything proportional to them is allocated.
+        let mut b = good.clone();
+        b.joints.truncate(1);
+        b.joints[0].channels.clear();
+        b.frames = MAX_KEYS + 1;
+        b.values.clear();
+        assert_eq!(to_glb(&b, &GltfOptions::canonical()).unwrap_err().code(), "TOO_LONG");
         let zero = GltfOptions { metres_per_unit: 0.0, ..GltfOptions::canonical() };
         assert!(matches!(to_glb(&good, &zero), Err(GltfError::NonFinite { .. })));
     }
