@@ -1,9 +1,9 @@
-//! The `.glb` container of an [`Animation`]: the glTF JSON (built with `serde_json`) and one
-//! binary buffer, every buffer view 4-byte aligned, one accessor per view.
+//! The `.glb` container of an [`Animation`]: the glTF JSON (typed structs below, written with
+//! `serde_json`) and one binary buffer, every buffer view 4-byte aligned, one accessor per view.
 
 use super::{Animation, GltfError};
 use glam::{DMat4, DQuat, DVec3};
-use serde_json::{Value, json};
+use serde::Serialize;
 
 const FLOAT: u32 = 5126;
 const UNSIGNED_SHORT: u32 = 5123;
@@ -12,12 +12,173 @@ const ARRAY_BUFFER: u32 = 34962;
 const ELEMENT_ARRAY_BUFFER: u32 = 34963;
 const TRIANGLES: u32 = 4;
 
+// The parts of glTF 2.0 this writer uses (field names as the spec spells them).
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct Gltf<'a> {
+    asset: Asset,
+    scene: usize,
+    scenes: [Scene<'a>; 1],
+    nodes: Vec<Node<'a>>,
+    skins: [Skin; 1],
+    meshes: [Mesh; 1],
+    materials: [Material; 1],
+    animations: [AnimationJson<'a>; 1],
+    buffers: [BufferJson; 1],
+    buffer_views: Vec<View>,
+    accessors: Vec<Accessor>,
+}
+
+#[derive(Serialize)]
+struct Asset {
+    version: &'static str,
+    generator: &'static str,
+}
+
+#[derive(Serialize)]
+struct Scene<'a> {
+    name: &'a str,
+    nodes: Vec<usize>,
+    extras: SceneExtras,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct SceneExtras {
+    metres_per_unit: f64,
+    orientation: [f64; 4],
+    frame_time: f64,
+    frames: usize,
+}
+
+#[derive(Serialize, Default)]
+struct Node<'a> {
+    name: &'a str,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    children: Vec<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    translation: Option<[f32; 3]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    rotation: Option<[f32; 4]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    mesh: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    skin: Option<usize>,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct Skin {
+    name: &'static str,
+    joints: Vec<usize>,
+    inverse_bind_matrices: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    skeleton: Option<usize>,
+}
+
+#[derive(Serialize)]
+struct Mesh {
+    name: &'static str,
+    primitives: [Primitive; 1],
+}
+
+#[derive(Serialize)]
+struct Primitive {
+    attributes: Attributes,
+    indices: usize,
+    material: usize,
+    mode: u32,
+}
+
+#[derive(Serialize)]
+struct Attributes {
+    #[serde(rename = "POSITION")]
+    position: usize,
+    #[serde(rename = "JOINTS_0")]
+    joints: usize,
+    #[serde(rename = "WEIGHTS_0")]
+    weights: usize,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct Material {
+    name: &'static str,
+    pbr_metallic_roughness: Pbr,
+    double_sided: bool,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct Pbr {
+    base_color_factor: [f32; 4],
+    metallic_factor: f32,
+    roughness_factor: f32,
+}
+
+#[derive(Serialize)]
+struct AnimationJson<'a> {
+    name: &'a str,
+    samplers: Vec<Sampler>,
+    channels: Vec<ChannelJson>,
+}
+
+#[derive(Serialize)]
+struct Sampler {
+    input: usize,
+    output: usize,
+    interpolation: &'static str,
+}
+
+#[derive(Serialize)]
+struct ChannelJson {
+    sampler: usize,
+    target: Target,
+}
+
+#[derive(Serialize)]
+struct Target {
+    node: usize,
+    path: &'static str,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct BufferJson {
+    byte_length: usize,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct View {
+    buffer: usize,
+    byte_offset: usize,
+    byte_length: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    target: Option<u32>,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct Accessor {
+    buffer_view: usize,
+    component_type: u32,
+    count: usize,
+    #[serde(rename = "type")]
+    kind: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    min: Option<Vec<f32>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    max: Option<Vec<f32>>,
+}
+
 /// The binary chunk being filled, with its buffer views and accessors.
 #[derive(Default)]
 struct Buffer {
     bytes: Vec<u8>,
-    views: Vec<Value>,
-    accessors: Vec<Value>,
+    views: Vec<View>,
+    accessors: Vec<Accessor>,
 }
 
 impl Buffer {
@@ -26,22 +187,18 @@ impl Buffer {
         while !self.bytes.len().is_multiple_of(4) {
             self.bytes.push(0);
         }
-        let mut view = json!({ "buffer": 0, "byteOffset": self.bytes.len(), "byteLength": data.len() });
-        if let Some(t) = target {
-            view["target"] = json!(t);
-        }
+        self.views.push(View { buffer: 0, byte_offset: self.bytes.len(), byte_length: data.len(), target });
         self.bytes.extend_from_slice(data);
-        self.views.push(view);
         self.views.len() - 1
     }
 
-    /// A float accessor of `count` elements of `kind` ("SCALAR", "VEC3", "VEC4", "MAT4").
-    fn floats(&mut self, values: &[f32], kind: &str, target: Option<u32>, bounds: bool) -> usize {
+    /// A float accessor of elements of `kind` ("SCALAR", "VEC3", "VEC4", "MAT4"), with its bounds
+    /// where asked.
+    fn floats(&mut self, values: &[f32], kind: &'static str, target: Option<u32>, bounds: bool) -> usize {
         let width = components(kind);
         let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
-        let view = self.view(&bytes, target);
-        let mut accessor =
-            json!({ "bufferView": view, "componentType": FLOAT, "count": values.len() / width, "type": kind });
+        let buffer_view = self.view(&bytes, target);
+        let (mut min, mut max) = (None, None);
         if bounds {
             let mut lo = vec![f32::INFINITY; width];
             let mut hi = vec![f32::NEG_INFINITY; width];
@@ -51,26 +208,27 @@ impl Buffer {
                     hi[k] = hi[k].max(v);
                 }
             }
-            accessor["min"] = json!(lo);
-            accessor["max"] = json!(hi);
+            (min, max) = (Some(lo), Some(hi));
         }
-        self.accessors.push(accessor);
+        let count = values.len() / width;
+        self.accessors.push(Accessor { buffer_view, component_type: FLOAT, count, kind, min, max });
         self.accessors.len() - 1
     }
 
-    /// An unsigned-integer accessor (16-bit where every value fits, else 32-bit for `indices`).
-    fn integers(&mut self, values: &[u32], kind: &str, target: Option<u32>) -> usize {
+    /// An unsigned-integer accessor: 16-bit where every value fits, else 32-bit. Returns the
+    /// accessor and whether it is 16-bit.
+    fn integers(&mut self, values: &[u32], kind: &'static str, target: Option<u32>) -> (usize, bool) {
         let short = values.iter().all(|&v| v <= u16::MAX as u32);
         let bytes: Vec<u8> = if short {
             values.iter().flat_map(|&v| (v as u16).to_le_bytes()).collect()
         } else {
             values.iter().flat_map(|v| v.to_le_bytes()).collect()
         };
-        let view = self.view(&bytes, target);
-        let component = if short { UNSIGNED_SHORT } else { UNSIGNED_INT };
+        let buffer_view = self.view(&bytes, target);
+        let component_type = if short { UNSIGNED_SHORT } else { UNSIGNED_INT };
         let count = values.len() / components(kind);
-        self.accessors.push(json!({ "bufferView": view, "componentType": component, "count": count, "type": kind }));
-        self.accessors.len() - 1
+        self.accessors.push(Accessor { buffer_view, component_type, count, kind, min: None, max: None });
+        (self.accessors.len() - 1, short)
     }
 }
 
@@ -131,24 +289,17 @@ pub(super) fn write(a: &Animation) -> Result<Vec<u8>, GltfError> {
     let mut buffer = Buffer::default();
 
     // Nodes: the joints, then the skinned mesh's node (a root, as glTF asks).
-    let mut nodes: Vec<Value> = (0..n)
-        .map(|j| {
-            let mut node = json!({ "name": a.names[j], "translation": vec3(a.rest_translation[j]) });
-            if a.rest_rotation[j] != DQuat::IDENTITY {
-                node["rotation"] = json!(quat(a.rest_rotation[j]));
-            }
-            node
+    let mut nodes: Vec<Node> = (0..n)
+        .map(|j| Node {
+            name: &a.names[j],
+            translation: Some(vec3(a.rest_translation[j])),
+            rotation: (a.rest_rotation[j] != DQuat::IDENTITY).then(|| quat(a.rest_rotation[j])),
+            ..Node::default()
         })
         .collect();
     for j in 0..n {
         if let Some(p) = a.parents[j] {
-            let children = &mut nodes[p]["children"];
-            if children.is_null() {
-                *children = json!([]);
-            }
-            if let Some(list) = children.as_array_mut() {
-                list.push(json!(j));
-            }
+            nodes[p].children.push(j);
         }
     }
     let roots: Vec<usize> = (0..n).filter(|&j| a.parents[j].is_none()).collect();
@@ -180,16 +331,16 @@ pub(super) fn write(a: &Animation) -> Result<Vec<u8>, GltfError> {
         bones.push(rest_pos[0], rest_pos[0] + DVec3::Y * 0.05, 0);
     }
     let position = buffer.floats(&bones.positions, "VEC3", Some(ARRAY_BUFFER), true);
-    let joints = buffer.integers(&bones.joints, "VEC4", Some(ARRAY_BUFFER));
-    if buffer.accessors[joints]["componentType"] != json!(UNSIGNED_SHORT) {
+    let (joints, short) = buffer.integers(&bones.joints, "VEC4", Some(ARRAY_BUFFER));
+    if !short {
         return Err(GltfError::TooManyJoints { joints: n, max: super::MAX_JOINTS });
     }
     let weights: Vec<f32> = (0..bones.joints.len() / 4).flat_map(|_| [1.0, 0.0, 0.0, 0.0]).collect();
     let weights = buffer.floats(&weights, "VEC4", Some(ARRAY_BUFFER), false);
-    let indices = buffer.integers(&bones.indices, "SCALAR", Some(ELEMENT_ARRAY_BUFFER));
-    let inverse_bind = buffer.floats(&inverse_bind, "MAT4", None, false);
+    let (indices, _) = buffer.integers(&bones.indices, "SCALAR", Some(ELEMENT_ARRAY_BUFFER));
+    let inverse_bind_matrices = buffer.floats(&inverse_bind, "MAT4", None, false);
     let mesh_node = nodes.len();
-    nodes.push(json!({ "name": "skeleton", "mesh": 0, "skin": 0 }));
+    nodes.push(Node { name: "skeleton", mesh: Some(0), skin: Some(0), ..Node::default() });
 
     // The animation: shared keyframe times, then one sampler per animated property.
     let times: Vec<f32> = (0..a.frames).map(|f| (f as f64 * a.frame_time) as f32).collect();
@@ -202,10 +353,10 @@ pub(super) fn write(a: &Animation) -> Result<Vec<u8>, GltfError> {
     let mut channels = Vec::new();
     for j in 0..n {
         let frames = (0..a.frames).map(|f| f * n + j);
-        let mut track = |values: Vec<f32>, kind: &str, path: &str| {
+        let mut track = |values: Vec<f32>, kind: &'static str, path: &'static str| {
             let output = buffer.floats(&values, kind, None, false);
-            channels.push(json!({ "sampler": samplers.len(), "target": { "node": j, "path": path } }));
-            samplers.push(json!({ "input": input, "output": output, "interpolation": "LINEAR" }));
+            channels.push(ChannelJson { sampler: samplers.len(), target: Target { node: j, path } });
+            samplers.push(Sampler { input, output, interpolation: "LINEAR" });
         };
         if a.animated_translation[j] {
             track(frames.clone().flat_map(|k| vec3(a.translation[k])).collect(), "VEC3", "translation");
@@ -214,59 +365,63 @@ pub(super) fn write(a: &Animation) -> Result<Vec<u8>, GltfError> {
             track(frames.flat_map(|k| quat(a.rotation[k])).collect(), "VEC4", "rotation");
         }
     }
-
-    let o = &a.options;
-    let q = o.orientation.normalize();
-    let mut skin =
-        json!({ "name": "skeleton", "joints": (0..n).collect::<Vec<_>>(), "inverseBindMatrices": inverse_bind });
-    if roots.len() == 1 {
-        skin["skeleton"] = json!(roots[0]);
-    }
-    let mut scene_nodes = roots.clone();
-    scene_nodes.push(mesh_node);
-    let mut gltf = json!({
-        "asset": { "version": "2.0", "generator": concat!("motion-stylizer ", env!("CARGO_PKG_VERSION")) },
-        "scene": 0,
-        "scenes": [{
-            "name": o.animation_name,
-            "nodes": scene_nodes,
-            "extras": {
-                "metresPerUnit": o.metres_per_unit,
-                "orientation": [q.x, q.y, q.z, q.w],
-                "frameTime": a.frame_time,
-                "frames": a.frames,
-            },
-        }],
-        "nodes": nodes,
-        "skins": [skin],
-        "meshes": [{
-            "name": "skeleton",
-            "primitives": [{
-                "attributes": { "POSITION": position, "JOINTS_0": joints, "WEIGHTS_0": weights },
-                "indices": indices,
-                "material": 0,
-                "mode": TRIANGLES,
-            }],
-        }],
-        "materials": [{
-            "name": "bone",
-            "pbrMetallicRoughness": { "baseColorFactor": [0.93, 0.55, 0.3, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.7 },
-            "doubleSided": true,
-        }],
-        "animations": [{ "name": o.animation_name, "samplers": samplers, "channels": channels }],
-        "bufferViews": buffer.views,
-        "accessors": buffer.accessors,
-    });
     while !buffer.bytes.len().is_multiple_of(4) {
         buffer.bytes.push(0);
     }
-    gltf["buffers"] = json!([{ "byteLength": buffer.bytes.len() }]);
-    container(&gltf, &buffer.bytes)
+
+    let o = &a.options;
+    let q = o.orientation.normalize();
+    let mut scene_nodes = roots.clone();
+    scene_nodes.push(mesh_node);
+    let gltf = Gltf {
+        asset: Asset { version: "2.0", generator: concat!("motion-stylizer ", env!("CARGO_PKG_VERSION")) },
+        scene: 0,
+        scenes: [Scene {
+            name: &o.animation_name,
+            nodes: scene_nodes,
+            extras: SceneExtras {
+                metres_per_unit: o.metres_per_unit,
+                orientation: [q.x, q.y, q.z, q.w],
+                frame_time: a.frame_time,
+                frames: a.frames,
+            },
+        }],
+        nodes,
+        skins: [Skin {
+            name: "skeleton",
+            joints: (0..n).collect(),
+            inverse_bind_matrices,
+            skeleton: (roots.len() == 1).then(|| roots[0]),
+        }],
+        meshes: [Mesh {
+            name: "skeleton",
+            primitives: [Primitive {
+                attributes: Attributes { position, joints, weights },
+                indices,
+                material: 0,
+                mode: TRIANGLES,
+            }],
+        }],
+        materials: [Material {
+            name: "bone",
+            pbr_metallic_roughness: Pbr {
+                base_color_factor: [0.93, 0.55, 0.3, 1.0],
+                metallic_factor: 0.0,
+                roughness_factor: 0.7,
+            },
+            double_sided: true,
+        }],
+        animations: [AnimationJson { name: &o.animation_name, samplers, channels }],
+        buffers: [BufferJson { byte_length: buffer.bytes.len() }],
+        buffer_views: buffer.views,
+        accessors: buffer.accessors,
+    };
+    let text = serde_json::to_vec(&gltf).map_err(|e| GltfError::Malformed { reason: format!("glTF JSON: {e}") })?;
+    container(text, &buffer.bytes)
 }
 
 /// The GLB container: a 12-byte header, the JSON chunk (padded with spaces), the BIN chunk.
-fn container(gltf: &Value, bin: &[u8]) -> Result<Vec<u8>, GltfError> {
-    let mut text = gltf.to_string().into_bytes();
+fn container(mut text: Vec<u8>, bin: &[u8]) -> Result<Vec<u8>, GltfError> {
     while !text.len().is_multiple_of(4) {
         text.push(b' ');
     }
