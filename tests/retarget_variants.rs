@@ -186,9 +186,20 @@ fn missing_required_joints_are_named() {
         }
         other => panic!("{other:?}"),
     }
+    // A hand no table knows: the structure finds it (issue 15).
     let pawed = rename(&m21, |n| (n == "LeftHand").then(|| "LeftPaw".to_string()));
-    let err = import(&pawed).unwrap_err();
-    assert_eq!(err, ImportError::MissingJoints { missing: vec!["Hand_L".into()], rig: "m21".into() });
+    let imp = import(&pawed).unwrap();
+    assert_eq!(imp.rig.report().rig, "structural");
+    assert!(imp.rig.report().matched.contains(&("Hand_L".to_string(), "LeftPaw".to_string())));
+    // Without its left arm, neither names nor structure: the error names what is missing.
+    let one_armed = drop_joints(&m21, |n| n == "LeftArm");
+    let err = import(&one_armed).unwrap_err();
+    match &err {
+        ImportError::MissingJoints { missing, .. } => {
+            assert!(missing.ends_with(&["LowerArm_L".into(), "Hand_L".into()]))
+        }
+        other => panic!("{other:?}"),
+    }
     assert!(err.to_string().contains("Hand_L"), "{err}");
     // Head, Spine and Chest are not essential (issue 15): synthesised, not missing.
     let headless = drop_joints(&fixture("bandai", "dataset-2_walk_normal_001_f120"), |n| n == "Head");

@@ -821,17 +821,73 @@ fn non_humans_are_refused() {
     let flipped = Bvh { values: upside.values.iter().zip(&m21.values).map(|(_, b)| *b).collect(), ..upside };
     let err = import(&flipped).unwrap_err();
     assert_eq!(err.code(), "NOT_HUMAN", "{err}");
-    // A human skeleton with nonsense names stays unmatched, naming what is missing.
-    let nonsense = rename(&m21, |n| Some(format!("Q{}", n.len())));
-    let nonsense = Bvh {
-        joints: nonsense
-            .joints
-            .iter()
-            .enumerate()
-            .map(|(k, j)| BvhJoint { name: format!("{}_{k}", j.name), ..j.clone() })
-            .collect(),
-        ..nonsense
-    };
-    let err = import(&nonsense).unwrap_err();
+    // A body with nonsense names and one arm missing: no scheme and no structure; the error names
+    // what the closest scheme lacks.
+    let one_armed = anonymise(&drop_joints(&m21, |n| n == "LeftArm"));
+    let err = import(&one_armed).unwrap_err();
     assert_eq!(err.code(), "RIG_UNMATCHED", "{err}");
+    assert!(err.to_string().contains("Hips"), "{err}");
+}
+
+/// Every joint renamed `j0`, `j1`, …: only the structure is left.
+fn anonymise(bvh: &Bvh) -> Bvh {
+    let mut out = bvh.clone();
+    for (k, j) in out.joints.iter_mut().enumerate() {
+        j.name = format!("j{k}");
+    }
+    out
+}
+
+/// Point 1, structure: the same skeletons with meaningless names are matched from their topology
+/// and geometry, the same joints as by name (so the same motion), twist/roll bones and hip links
+/// skipped, the arms hanging from the neck (Biped), Z up, a rest pose along +X (Bandai).
+#[test]
+fn structure_alone_matches_the_same_joints() {
+    let m21 = fixture("foreign", "m21_walk");
+    let cases: Vec<(&str, Bvh)> = vec![
+        ("m21", m21.clone()),
+        ("cmu31", fixture("foreign", "cmu31_xia_neutral_16_000")),
+        ("humanik", rig_fixture("humanik").1),
+        ("acclaim_zup_root", rig_fixture("acclaim_zup_root").1),
+        ("biped", rig_fixture("biped").1),
+        ("daz_poser", rig_fixture("daz_poser").1),
+        ("unreal", rig_fixture("unreal").1),
+        ("bandai", fixture("bandai", "dataset-2_walk_normal_001_f120")),
+    ];
+    for (name, bvh) in cases {
+        let by_name = import(&bvh).unwrap();
+        let anon = anonymise(&bvh);
+        let imp = import(&anon).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(imp.rig.report().rig, "structural", "{name}");
+        let essential = [
+            HIPS,
+            UPPER_LEG_L,
+            LOWER_LEG_L,
+            FOOT_L,
+            UPPER_LEG_R,
+            LOWER_LEG_R,
+            FOOT_R,
+            UPPER_ARM_L,
+            LOWER_ARM_L,
+            HAND_L,
+            UPPER_ARM_R,
+            LOWER_ARM_R,
+            HAND_R,
+            HEAD,
+        ];
+        for j in essential {
+            assert_eq!(imp.rig.joint_map()[j], by_name.rig.joint_map()[j], "{name}: {}", JOINT_NAMES[j]);
+        }
+        if name == "bandai" {
+            // Bandai by name uses its base-pose table; by structure a frame of the clip.
+            for (pair, r, std) in effector_correlations(&anon, &imp.rig, &imp.motion) {
+                assert!(std < 0.01 || r > 0.95, "{name}: {pair} {r}");
+            }
+        } else if name != "cmu31" {
+            assert_faithful(&anon, name, 0.05);
+        }
+        if ["m21", "daz_poser"].contains(&name) {
+            assert!(max_position_error(&by_name.motion, &imp.motion) < 1e-6, "{name}");
+        }
+    }
 }

@@ -14,6 +14,7 @@ pub mod retarget;
 mod rig_names;
 pub mod rigs;
 pub mod rotation;
+mod structure;
 mod tpose;
 
 pub use canonical::{FPS, JOINT_NAMES, NUM_JOINTS};

@@ -152,6 +152,30 @@ fn axis_name(v: DVec3) -> String {
 }
 
 const FEET: [usize; 4] = [FOOT_L, TOES_L, FOOT_R, TOES_R];
+
+/// Name of the rig found by its structure alone ([`super::structure`]).
+pub const STRUCTURAL: &str = "structural";
+
+/// The canonical joints of `bvh` from its structure: the rest pose for the geometry (or the first
+/// frame when the rest pose has no extent), the rest pose and up to 8 frames for the facing.
+fn structural(bvh: &Bvh) -> Option<rigs::Detection> {
+    let n = bvh.joints.len();
+    let rest_t: Vec<DVec3> = (0..n).map(|u| bvh.local_transform(0, u).0).collect();
+    let rest = super::fk::forward_kinematics_vec(n, |u| bvh.joints[u].parent, |u| (rest_t[u], DQuat::IDENTITY)).0;
+    let step = bvh.frames.div_ceil(8).max(1);
+    let frames: Vec<Vec<DVec3>> = (0..bvh.frames).step_by(step).map(|f| bvh.global_pose(f).0).collect();
+    let mut poses = vec![rest];
+    poses.extend(frames.iter().cloned());
+    let map = super::structure::match_structure(&bvh.joints, &poses).or_else(|| {
+        frames.first().and_then(|f| {
+            let mut p = vec![f.clone()];
+            p.extend(frames.iter().cloned());
+            super::structure::match_structure(&bvh.joints, &p)
+        })
+    })?;
+    let map = rigs::validate(&bvh.joints, rigs::spine_from_structure(&bvh.joints, rigs::validate(&bvh.joints, map)));
+    rigs::missing_required(&map).is_empty().then_some(rigs::Detection { rig: STRUCTURAL, map, base_pose: None })
+}
 impl UserRig {
     /// Detects the rig of `bvh` (its hierarchy; the frames only serve as base pose when the rest pose
     /// is no use, and to measure the floor) and derives the retargeting.
@@ -159,7 +183,7 @@ impl UserRig {
         well_formed(bvh)?;
         resample::check_budget(bvh.frames, bvh.num_channels(), bvh.frame_time)?;
         let joints = bvh.joints.clone();
-        let det = rigs::detect(&joints).map_err(|e| {
+        let det = rigs::detect(&joints).or_else(|e| structural(bvh).ok_or(e)).map_err(|e| {
             // One or two chains cannot be two arms and two legs, whatever the names.
             let ends = (0..joints.len()).filter(|&u| !joints.iter().any(|j| j.parent == Some(u))).count();
             if ends <= 2 {

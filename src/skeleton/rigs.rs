@@ -355,7 +355,7 @@ fn match_generic(joints: &[BvhJoint]) -> JointMap {
 
 /// Drops matches that contradict the hierarchy: the user joint of a canonical joint's nearest matched
 /// canonical ancestor must be a proper ancestor of its own user joint.
-fn validate(joints: &[BvhJoint], mut map: JointMap) -> JointMap {
+pub(super) fn validate(joints: &[BvhJoint], mut map: JointMap) -> JointMap {
     let is_ancestor = |a: usize, mut d: usize| {
         let mut steps = 0;
         while let Some(p) = joints.get(d).and_then(|j| j.parent) {
