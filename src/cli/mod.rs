@@ -36,9 +36,13 @@ enum Command {
     /// Show a BVH file's joints, frames, frame rate, detected rig and matched canonical joints.
     Inspect {
         file: PathBuf,
-        /// Print one JSON object instead of text.
+        /// Print one JSON object instead of text (with `map`, the joint mapping used, ready to
+        /// edit for --map).
         #[arg(long)]
         json: bool,
+        /// Joint mapping, JSON: canonical joint -> this file's joint (or null).
+        #[arg(long, value_name = "FILE.json")]
+        map: Option<PathBuf>,
     },
     /// Retarget a BVH onto the canonical rig at 30 fps, or onto the skeleton of another BVH.
     Retarget {
@@ -49,6 +53,10 @@ enum Command {
         /// Put the motion on this BVH's skeleton instead of the canonical rig.
         #[arg(long, value_name = "RIG.bvh")]
         onto: Option<PathBuf>,
+        /// Joint mapping of FILE, JSON: canonical joint -> FILE's joint (or null); see
+        /// `inspect --json`.
+        #[arg(long, value_name = "FILE.json")]
+        map: Option<PathBuf>,
     },
     /// Choose the held-out takes of the Bandai-Namco data (writes the committed split file).
     Split {
@@ -90,8 +98,10 @@ enum Command {
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
-        Command::Inspect { file, json } => inspect::run(&file, json),
-        Command::Retarget { file, output, onto } => retarget::run(&file, &output, onto.as_deref()),
+        Command::Inspect { file, json, map } => inspect::run(&file, json, map.as_deref()),
+        Command::Retarget { file, output, onto, map } => {
+            retarget::run(&file, &output, onto.as_deref(), map.as_deref())
+        }
         Command::Split { data, seed, output } => split::run(&data, seed, &output),
         #[cfg(feature = "model")]
         Command::Stylize(args) => stylize::run(&args),
@@ -112,6 +122,16 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
 fn read_text(path: &Path) -> anyhow::Result<String> {
     use anyhow::Context;
     std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))
+}
+
+/// Reads a joint mapping file (`--map`).
+fn read_map(path: Option<&Path>) -> anyhow::Result<Option<motion_stylizer::skeleton::ManualMap>> {
+    use anyhow::Context;
+    let Some(path) = path else { return Ok(None) };
+    let text = read_text(path)?;
+    let map = motion_stylizer::skeleton::ManualMap::from_json(&text)
+        .with_context(|| format!("cannot use the joint mapping {}", path.display()))?;
+    Ok(Some(map))
 }
 
 /// Writes a text file with the path in the error.

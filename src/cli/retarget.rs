@@ -1,4 +1,4 @@
-//! `motion-stylizer retarget FILE.bvh -o OUT.bvh|OUT.glb [--onto RIG.bvh]`.
+//! `motion-stylizer retarget FILE.bvh -o OUT.bvh|OUT.glb [--onto RIG.bvh] [--map FILE.json]`.
 
 use super::output::Rig;
 use anyhow::Context;
@@ -6,9 +6,11 @@ use motion_stylizer::bvh::Bvh;
 use motion_stylizer::skeleton::{self, UserRig};
 use std::path::Path;
 
-pub fn run(file: &Path, output: &Path, onto: Option<&Path>) -> anyhow::Result<()> {
+pub fn run(file: &Path, output: &Path, onto: Option<&Path>, map: Option<&Path>) -> anyhow::Result<()> {
     let text = super::read_text(file)?;
-    let imported = skeleton::import_bvh(&text).with_context(|| format!("cannot import {}", file.display()))?;
+    let map = super::read_map(map)?;
+    let imported =
+        skeleton::import_bvh_with(&text, map.as_ref()).with_context(|| format!("cannot import {}", file.display()))?;
     let rig = match onto {
         None => None,
         Some(rig_path) => {

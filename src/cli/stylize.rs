@@ -45,6 +45,10 @@ pub struct StylizeArgs {
     /// Write the output on the canonical 21-joint rig instead of the content's own rig.
     #[arg(long)]
     canonical: bool,
+    /// Joint mapping of the content, JSON: canonical joint -> the content's joint (or null); see
+    /// `inspect --json`.
+    #[arg(long, value_name = "FILE.json")]
+    map: Option<PathBuf>,
     /// Trained weights folder (manifest.json, norm.json, supervised.bin, unsupervised.bin).
     /// Default: assets/weights in the crate.
     #[arg(long, value_name = "DIR")]
@@ -67,9 +71,9 @@ pub fn load_weights(dir: &Path) -> anyhow::Result<Weights> {
     Weights::load_dir(dir).with_context(|| format!("cannot load the weights at {}", dir.display()))
 }
 
-fn import(path: &Path) -> anyhow::Result<Imported> {
+fn import(path: &Path, map: Option<&skeleton::ManualMap>) -> anyhow::Result<Imported> {
     let text = super::read_text(path)?;
-    skeleton::import_bvh(&text).with_context(|| format!("cannot import {}", path.display()))
+    skeleton::import_bvh_with(&text, map).with_context(|| format!("cannot import {}", path.display()))
 }
 
 /// `OUT.bvh` for one sample; `OUT_i.bvh` for sample `i` of several.
@@ -94,8 +98,9 @@ pub fn run(args: &StylizeArgs) -> anyhow::Result<()> {
     let weights = load_weights(&dir)?;
     let label = args.label.as_deref().map(|name| weights.style(name)).transpose()?;
 
-    let content = import(&args.content)?;
-    let reference = args.style_motion.as_deref().map(import).transpose()?;
+    let map = super::read_map(args.map.as_deref())?;
+    let content = import(&args.content, map.as_ref())?;
+    let reference = args.style_motion.as_deref().map(|p| import(p, None)).transpose()?;
     // Supervised motion-based without a label: the reference's label is inferred.
     let label = match (&reference, label, setting) {
         (Some(r), None, Setting::Supervised) => {

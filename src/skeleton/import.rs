@@ -1,6 +1,7 @@
 //! Entry points: BVH text or [`Bvh`] on any rig → [`Motion`] on the canonical rig, plus the
 //! [`UserRig`] that takes motions back to the user's skeleton.
 
+use super::ManualMap;
 use super::resample;
 use super::retarget::UserRig;
 use crate::bvh::{Bvh, BvhError};
@@ -22,6 +23,10 @@ pub enum ImportError {
     /// ([`super::retarget`] documents the checks).
     #[error("not a human skeleton: {reason}")]
     NotHuman { reason: String },
+    /// A manual joint mapping ([`super::ManualMap`]) that cannot be used: not JSON, an unknown
+    /// canonical joint, a joint the file lacks, one joint for two canonical joints.
+    #[error("joint mapping: {reason}")]
+    BadMap { reason: String },
     /// [`UserRig::to_canonical`] was given a BVH whose hierarchy is not the rig's.
     #[error("the BVH's hierarchy is not the rig's: {reason}")]
     RigMismatch { reason: String },
@@ -49,6 +54,7 @@ impl ImportError {
             ImportError::MissingJoints { .. } => "RIG_UNMATCHED",
             ImportError::Degenerate { .. } => "RIG_DEGENERATE",
             ImportError::NotHuman { .. } => "NOT_HUMAN",
+            ImportError::BadMap { .. } => "BAD_MAP",
             ImportError::RigMismatch { .. } => "RIG_MISMATCH",
             ImportError::TooLong { .. } | ImportError::OverBudget { .. } => "TOO_LONG",
             ImportError::Motion(_) => "BAD_MOTION",
@@ -67,14 +73,24 @@ pub struct Imported {
 /// header is read first and the work bounded from it ([`resample::check_budget`]) before the frame
 /// rows are parsed.
 pub fn import_bvh(text: &str) -> Result<Imported, ImportError> {
+    import_bvh_with(text, None)
+}
+
+/// [`import_bvh`] with a manual joint mapping (see [`ManualMap`]).
+pub fn import_bvh_with(text: &str, map: Option<&ManualMap>) -> Result<Imported, ImportError> {
     let h = Bvh::parse_header(text)?;
     resample::check_budget(h.frames, h.channels, h.frame_time)?;
-    import(&Bvh::parse(text)?)
+    import_with(&Bvh::parse(text)?, map)
 }
 
 /// Detects the rig of `bvh`, retargets its motion to the canonical rig and resamples it to 30 fps.
 pub fn import(bvh: &Bvh) -> Result<Imported, ImportError> {
-    let rig = UserRig::from_bvh(bvh)?;
+    import_with(bvh, None)
+}
+
+/// [`import`] with a manual joint mapping (see [`ManualMap`]).
+pub fn import_with(bvh: &Bvh, map: Option<&ManualMap>) -> Result<Imported, ImportError> {
+    let rig = UserRig::from_bvh_with(bvh, map)?;
     let motion = rig.to_canonical(bvh)?;
     Ok(Imported { motion, rig })
 }

@@ -9,6 +9,7 @@
 pub mod canonical;
 pub mod fk;
 mod import;
+mod manual;
 pub mod resample;
 pub mod retarget;
 mod rig_names;
@@ -18,5 +19,6 @@ mod structure;
 mod tpose;
 
 pub use canonical::{FPS, JOINT_NAMES, NUM_JOINTS};
-pub use import::{ImportError, Imported, canonical_bvh, import, import_bvh};
+pub use import::{ImportError, Imported, canonical_bvh, import, import_bvh, import_bvh_with, import_with};
+pub use manual::{ManualMap, map_json};
 pub use retarget::{RigReport, UserRig};

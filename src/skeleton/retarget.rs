@@ -36,7 +36,7 @@
 //! * **Frame rate**: the canonical motion is resampled to 30 fps after the transfer
 //!   ([`super::resample`]).
 
-use super::ImportError;
+use super::{ImportError, ManualMap};
 use super::canonical::{self, JOINT_NAMES, NUM_JOINTS, PARENTS, joint::*};
 use super::resample;
 use super::rigs::{self, JointMap};
@@ -153,6 +153,9 @@ fn axis_name(v: DVec3) -> String {
 
 const FEET: [usize; 4] = [FOOT_L, TOES_L, FOOT_R, TOES_R];
 
+/// Name of a rig matched through a manual mapping ([`ManualMap`]).
+pub const MANUAL: &str = "manual";
+
 /// Name of the rig found by its structure alone ([`super::structure`]).
 pub const STRUCTURAL: &str = "structural";
 
@@ -180,10 +183,39 @@ impl UserRig {
     /// Detects the rig of `bvh` (its hierarchy; the frames only serve as base pose when the rest pose
     /// is no use, and to measure the floor) and derives the retargeting.
     pub fn from_bvh(bvh: &Bvh) -> Result<UserRig, ImportError> {
+        Self::from_bvh_with(bvh, None)
+    }
+
+    /// [`UserRig::from_bvh`] with a manual joint mapping: its entries replace the automatic match
+    /// (rig `"manual"`); canonical joints it does not name keep the automatic match, if any.
+    pub fn from_bvh_with(bvh: &Bvh, manual: Option<&ManualMap>) -> Result<UserRig, ImportError> {
         well_formed(bvh)?;
         resample::check_budget(bvh.frames, bvh.num_channels(), bvh.frame_time)?;
         let joints = bvh.joints.clone();
-        let det = rigs::detect(&joints).or_else(|e| structural(bvh).ok_or(e)).map_err(|e| {
+        let auto = rigs::detect(&joints).or_else(|e| structural(bvh).ok_or(e));
+        let auto = match manual {
+            None => auto,
+            Some(m) => {
+                let base = auto.as_ref().ok().map(|d| d.map);
+                let map = m.apply(&joints, base)?;
+                let checked = rigs::validate(&joints, map);
+                if let Some(j) = (0..NUM_JOINTS).find(|&j| checked[j] != map[j]) {
+                    return Err(ImportError::BadMap {
+                        reason: format!(
+                            "{} ({:?}) is not below the joint of its canonical parent",
+                            JOINT_NAMES[j],
+                            map[j].map(|u| joints[u].name.as_str()).unwrap_or("")
+                        ),
+                    });
+                }
+                let missing = rigs::missing_required(&map);
+                if !missing.is_empty() {
+                    return Err(ImportError::MissingJoints { missing, rig: MANUAL.to_string() });
+                }
+                Ok(rigs::Detection { rig: MANUAL, map, base_pose: auto.ok().and_then(|d| d.base_pose) })
+            }
+        };
+        let det = auto.map_err(|e| {
             // One or two chains cannot be two arms and two legs, whatever the names.
             let ends = (0..joints.len()).filter(|&u| !joints.iter().any(|j| j.parent == Some(u))).count();
             if ends <= 2 {

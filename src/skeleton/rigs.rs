@@ -66,6 +66,8 @@ pub struct Detection {
 pub struct Unmatched {
     pub rig: &'static str,
     pub missing: Vec<String>,
+    /// That scheme's (partial) match: the best guesses.
+    pub map: JointMap,
 }
 
 /// The name a table entry is compared by: the part after any `namespace:` (or `a|b:`) prefix,
@@ -204,7 +206,7 @@ pub fn detect(joints: &[BvhJoint]) -> Result<Detection, Unmatched> {
         .iter()
         .min_by_key(|c| (missing_required(&c.1).len(), usize::MAX - score(&c.1)))
         .expect("the generic candidate is always there");
-    Err(Unmatched { rig, missing: missing_required(map) })
+    Err(Unmatched { rig, missing: missing_required(map), map: *map })
 }
 
 /// Names of the required canonical joints `map` lacks.
