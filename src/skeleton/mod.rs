@@ -1,10 +1,12 @@
 //! Kinematics and rigs: the canonical skeleton, forward kinematics, and retargeting between a user's
 //! rig and the canonical one.
 //!
-//! [`import_bvh`] / [`import`] bring a BVH on any supported rig (Bandai, CMU-31, the 21-joint m21 rig,
-//! Reallusion CC_Base, Mixamo, or anything the generic matcher understands) onto the canonical rig at
-//! 30 fps; the returned [`UserRig`] takes canonical motions back to the user's skeleton
-//! ([`UserRig::from_canonical`]). See [`retarget`] for the method.
+//! [`import_bvh`] / [`import`] bring a BVH on any supported human rig onto the canonical rig at
+//! 30 fps: matched by name ([`rigs`]: Bandai, CMU-31, m21, CC_Base, Mixamo, Daz/Poser, Second Life,
+//! Acclaim, HumanIK/Rokoko/Neuron, Biped, SMPL, Unreal, generic synonyms), else by structure
+//! (`structure.rs`), or by a manual mapping ([`ManualMap`], [`import_with`]). The returned
+//! [`UserRig`] takes canonical motions back to the user's skeleton ([`UserRig::from_canonical`]).
+//! See [`retarget`] for the method; the work is bounded from the header ([`resample::check_budget`]).
 
 pub mod canonical;
 pub mod fk;

@@ -2,13 +2,20 @@
 //!
 //! # Method
 //!
+//! * **Matching** ([`super::rigs`]): the naming scheme with the essential joints (Hips, legs to the
+//!   foot, arms to the hand) and the most joints wins; else the structure (`structure.rs`); or a
+//!   [`ManualMap`]. Canonical joints left unmatched are synthesised: identity local rotations, so
+//!   they turn with their parents ([`UserRig::synthesised`]).
+//! * **Plausibility**: one or two chains, or a reference pose whose legs do not point down from the
+//!   hips or whose hands are on the floor, is no human ([`ImportError::NotHuman`]).
 //! * **World basis** `R_w` (user world → canonical world): from the rig's base pose, up = Hips → Head
 //!   and left = left hip − right hip, each snapped to the nearest coordinate axis, mapped onto +Y and
 //!   +X (forward = left × up onto +Z). Handles Z-up rigs and rigs facing −Z. Snapping keeps the floor
 //!   level: the lean of a standing base pose would otherwise tilt the whole world by a few degrees.
-//! * **Base pose**: the zero-rotation rest pose, unless it needs a bone swung by more than 120° (twist
-//!   undefined near 180°): then Bandai (all bones along +X at rest) and CC_Base (legs and arms up) use
-//!   a table ([`super::rigs`]) and other rigs the clip frame needing the smallest swings. (The rest
+//! * **Base pose**: the zero-rotation rest pose, unless it is degenerate or needs a bone swung by
+//!   more than 120° (twist undefined near 180°): then Bandai (all bones along +X at rest) and CC_Base
+//!   (legs and arms up) use a table ([`super::rigs`]) and other rigs the clip frame needing the
+//!   smallest swings (said in [`UserRig::notes`]). (The rest
 //!   pose comes first so that a canonical BVH, Bandai names on a T-pose rest, imports as itself.)
 //! * **T-pose** `G_T[u]` (user world global rotations of the user skeleton posed like the canonical
 //!   T-pose), root to leaves: `G_base[u] = G_T[parent] · L_base[u]`; a matched joint then turns by the
@@ -36,12 +43,12 @@
 //! * **Frame rate**: the canonical motion is resampled to 30 fps after the transfer
 //!   ([`super::resample`]).
 
-use super::{ImportError, ManualMap};
 use super::canonical::{self, JOINT_NAMES, NUM_JOINTS, PARENTS, joint::*};
 use super::resample;
 use super::rigs::{self, JointMap};
 use super::rotation::decompose;
 use super::tpose::{Core, build, canonical_tpose, check_human, degenerate};
+use super::{ImportError, ManualMap};
 use crate::bvh::{Axis, Bvh, BvhJoint, Channel};
 use crate::motion::{Motion, Pose, forward_kinematics};
 use glam::{DQuat, DVec3};
@@ -156,7 +163,7 @@ const FEET: [usize; 4] = [FOOT_L, TOES_L, FOOT_R, TOES_R];
 /// Name of a rig matched through a manual mapping ([`ManualMap`]).
 pub const MANUAL: &str = "manual";
 
-/// Name of the rig found by its structure alone ([`super::structure`]).
+/// Name of the rig found by its structure alone (`structure.rs`).
 pub const STRUCTURAL: &str = "structural";
 
 /// The canonical joints of `bvh` from its structure: the rest pose for the geometry (or the first
