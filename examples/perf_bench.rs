@@ -93,6 +93,7 @@ fn time(repeats: usize, mut f: impl FnMut() -> BoxResult<()>) -> BoxResult<(f64,
 }
 
 fn main() -> BoxResult<()> {
+    motion_stylizer::memory::keep_freed_memory();
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args.len() < 4 {
         return Err("usage: perf_bench WEIGHTS_DIR CONTENT.bvh STYLE.bvh REPEATS [DUMP_DIR]".into());

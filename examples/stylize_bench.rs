@@ -9,6 +9,7 @@ use motion_stylizer::stylize::{self, Request, StyleSource, Weights};
 use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
+    motion_stylizer::memory::keep_freed_memory();
     let mut args = std::env::args().skip(1);
     let path = args.next().ok_or("usage: stylize_bench CONTENT.bvh [REPEATS]")?;
     let repeats: usize = args.next().map(|s| s.parse()).transpose()?.unwrap_or(5);

@@ -191,6 +191,7 @@ mod bench {
     }
 
     pub fn main() -> anyhow::Result<()> {
+        motion_stylizer::memory::keep_freed_memory();
         let args: Vec<String> = std::env::args().skip(1).collect();
         let Some(mode) = args.first().cloned() else {
             bail!("usage: train_perf_bench dump DIR [--width W] [--steps N] | time [--width W] [--repeats N]");

@@ -52,6 +52,7 @@ mod bench {
     }
 
     pub fn main() {
+        motion_stylizer::memory::keep_freed_memory();
         let mut steps = 3usize;
         let mut widths = vec![1.0, 0.5, 0.25];
         let args: Vec<String> = std::env::args().skip(1).collect();

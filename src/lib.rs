@@ -10,6 +10,7 @@ pub mod dataset;
 pub mod eval;
 pub mod features;
 pub mod gltf;
+pub mod memory;
 #[cfg(feature = "model")]
 pub mod model;
 pub mod motion;

@@ -15,6 +15,8 @@ fn main() {}
 
 #[cfg(not(target_arch = "wasm32"))]
 fn main() -> ExitCode {
+    // Training and batched inference free and reallocate multi-megabyte buffers every step.
+    motion_stylizer::memory::keep_freed_memory();
     let args = cli::Cli::parse();
     match cli::run(args) {
         Ok(()) => ExitCode::SUCCESS,

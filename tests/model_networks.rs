@@ -97,6 +97,47 @@ fn output_shapes_of_every_network() {
     assert!(norms.iter().all(|n| (n - 1.0).abs() < 1e-4), "{norms:?}");
 }
 
+/// Every network treats the clips of a batch independently: a batch of three gives, clip by clip,
+/// the numbers of each clip alone (the layers compute in the batch-inner layout `[C, B, T]`; a
+/// mix-up of the batch and channel axes would break this).
+#[test]
+fn every_network_computes_each_clip_of_a_batch_on_its_own() {
+    let dev = device();
+    let cfg = small(true);
+    let mut rng = NoiseRng::new(7);
+    let x = features(&mut rng, 3, 260, T);
+    let label = motion_stylizer::model::layers::one_hot(&[0, 3, 1], 4, &dev);
+    let ae = MotionAutoencoder::new(&cfg, &dev);
+    let content = ContentEncoder::new(&cfg, &dev);
+    let style = StyleEncoder::new(&cfg, &dev);
+    let generator = Generator::new(&cfg, &dev);
+    let regressor = GlobalRegressor::new(&cfg, &dev);
+    let classifier = StyleClassifier::new(&cfg, &dev);
+    let run = |x: Tensor<3>, label: Tensor<2>| -> Vec<Vec<f32>> {
+        let z = ae.encoder.forward(x.clone().narrow(1, 0, 256)).mean;
+        let c = content.forward(z.clone());
+        let s = style.forward(z.clone(), Some(label.clone())).mean;
+        let g = generator.forward(c.clone(), s.clone(), Some(label));
+        vec![
+            values(ae.decoder.forward(z)),
+            values(c),
+            values(s),
+            values(g),
+            values(regressor.forward(regressor_input(x.clone()))),
+            values(classifier.forward(x.narrow(1, 0, 256)).logits),
+        ]
+    };
+    let batch = run(x.clone(), label.clone());
+    for i in 0..3 {
+        let alone = run(x.clone().narrow(0, i, 1), label.clone().narrow(0, i, 1));
+        for (net, (all, one)) in batch.iter().zip(&alone).enumerate() {
+            let n = one.len();
+            let diff = all[i * n..(i + 1) * n].iter().zip(one).map(|(a, b)| (a - b).abs()).fold(0f32, f32::max);
+            assert!(diff < 1e-4, "network {net}, clip {i}: {diff}");
+        }
+    }
+}
+
 #[test]
 fn layer_helpers() {
     let dev = device();

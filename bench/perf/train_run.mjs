@@ -270,11 +270,25 @@ const busiest = Math.max(...quiet.map((q) => q.busy_before ?? 0));
 console.log(`machine: ${headline.cpu}, ${machine.cores} cores, PyTorch ${machine.torch} (${machine.torch_cpu_capability}), load average during rounds ${machine.load_average_during_rounds.join(' ')}, CPU busy before the timed runs at most ${(100 * busiest).toFixed(0)} %`);
 
 const results = existsSync(outFile) ? JSON.parse(readFileSync(outFile, 'utf8')) : {};
+// Every machine kind keeps its own results (the CPU changes between sessions): keyed by vendor,
+// family and model; the unkeyed fields hold the latest run's.
+const machineKey = (m) => `${m.vendor}-family${m.cpu_family}-model${m.cpu_model}`;
 const train = results.train_step ?? {};
+const byMachine = train.by_machine ?? {};
+for (const [t, r] of Object.entries(train.by_threads ?? {})) {
+  // Runs recorded before results were kept per machine.
+  if (r.machine?.vendor) (byMachine[machineKey(r.machine)] ??= { by_threads: {} }).by_threads[t] ??= r;
+}
+const thisMachine = machineKey(machine);
+(byMachine[thisMachine] ??= { by_threads: {} }).by_threads[String(threads)] = run;
+byMachine[thisMachine].vs_pytorch = { ...(byMachine[thisMachine].vs_pytorch ?? {}), [String(threads)]: headline };
 results.train_step_vs_pytorch = headline;
 results.train_step = {
-  definition: 'per thread count run: ours and PyTorch seconds per step (medians), ours per phase, parity of the first 3 steps, the machine; written by bench/perf/train_run.mjs (make bench-train)',
-  by_threads: { ...(train.by_threads ?? {}), [String(threads)]: run },
+  definition: 'per machine kind (vendor-family-model) and thread count: ours and PyTorch seconds per step (medians), ours per phase, parity of the first 3 steps, the machine; by_threads: the latest machine\'s; written by bench/perf/train_run.mjs (make bench-train)',
+  by_threads: thisMachine === machineKey(train.by_threads?.[String(threads)]?.machine ?? {}) || !train.by_threads
+    ? { ...(train.by_threads ?? {}), [String(threads)]: run }
+    : { [String(threads)]: run },
+  by_machine: byMachine,
 };
 writeFileSync(outFile, JSON.stringify(results, null, 2) + '\n');
 console.log(`wrote train_step_vs_pytorch and train_step.by_threads["${threads}"] into ${outFile}`);

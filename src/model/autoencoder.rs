@@ -8,7 +8,7 @@
 use burn::prelude::*;
 
 use super::config::ModelConfig;
-use super::layers::{ConvLayer, ConvLayerConfig};
+use super::layers::{ConvLayer, ConvLayerConfig, from_cbt, to_cbt};
 use crate::features::{DIM, MODEL_DIM};
 
 /// What the motion encoder gives. For the plain AE `logvar` is `None` and `mean` is the latent.
@@ -44,7 +44,7 @@ impl MotionEncoder {
 
     /// `x`: `[B, 256, T]` (T even twice over, i.e. a multiple of 4) → latent distribution at T/4.
     pub fn forward(&self, x: Tensor<3>) -> LatentDistribution {
-        let h = self.out.forward(self.down2.forward(self.down1.forward(x)));
+        let h = from_cbt(self.out.forward_cbt(self.down2.forward_cbt(self.down1.forward_cbt(to_cbt(x)))));
         if self.vae {
             let d = self.latent_dim;
             LatentDistribution { mean: h.clone().narrow(1, 0, d), logvar: Some(h.narrow(1, d, d)) }
@@ -75,7 +75,8 @@ impl MotionDecoder {
 
     /// `z`: `[B, D_z, L]` → features `[B, 260, 4L]`.
     pub fn forward(&self, z: Tensor<3>) -> Tensor<3> {
-        self.out.forward(self.up2.forward(self.up1.forward(self.first.forward(z))))
+        let h = self.up2.forward_cbt(self.up1.forward_cbt(self.first.forward_cbt(to_cbt(z))));
+        from_cbt(self.out.forward_cbt(h))
     }
 }
 

@@ -8,7 +8,7 @@ use burn::nn::{Initializer, Linear, LinearConfig};
 use burn::prelude::*;
 
 use super::config::ModelConfig;
-use super::layers::{ConvLayer, ConvLayerConfig};
+use super::layers::{ConvLayer, ConvLayerConfig, to_cbt};
 use crate::features::MODEL_DIM;
 
 #[derive(Module, Debug)]
@@ -48,10 +48,11 @@ impl StyleClassifier {
 
     /// `x`: `[B, 256, T]` (features without contacts, T a multiple of 16 for exact halvings).
     pub fn forward(&self, x: Tensor<3>) -> ClassifierOutput {
-        let h = self.down4.forward(self.down3.forward(self.down2.forward(self.down1.forward(x))));
-        let g = self.feature.forward(h.mean_dim(2));
-        let [b, c, _] = g.dims();
-        let g = g.reshape([b, c]);
+        let h = self.down2.forward_cbt(self.down1.forward_cbt(to_cbt(x)));
+        let h = self.down4.forward_cbt(self.down3.forward_cbt(h));
+        let g = self.feature.forward_cbt(h.mean_dim(2));
+        let [c, b, _] = g.dims();
+        let g = g.reshape([c, b]).swap_dims(0, 1);
         let norm = (g.clone().square().sum_dim(1) + 1e-8).sqrt();
         let feature = g / norm;
         let logits = self.output.forward(feature.clone());

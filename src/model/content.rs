@@ -6,7 +6,7 @@
 use burn::prelude::*;
 
 use super::config::ModelConfig;
-use super::layers::{ConvLayer, ConvLayerConfig};
+use super::layers::{ConvLayer, ConvLayerConfig, from_cbt, to_cbt};
 
 #[derive(Module, Debug)]
 pub struct ContentEncoder {
@@ -26,6 +26,6 @@ impl ContentEncoder {
 
     /// `z`: `[B, D_z, L]` (L even) → content code `[B, D_c, L/2]`.
     pub fn forward(&self, z: Tensor<3>) -> Tensor<3> {
-        self.out.forward(self.mid.forward(self.down.forward(z)))
+        from_cbt(self.out.forward_cbt(self.mid.forward_cbt(self.down.forward_cbt(to_cbt(z)))))
     }
 }

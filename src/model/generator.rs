@@ -8,7 +8,7 @@
 use burn::prelude::*;
 
 use super::config::ModelConfig;
-use super::layers::{AdaIn, ConvLayer, ConvLayerConfig};
+use super::layers::{AdaIn, ConvLayer, ConvLayerConfig, from_cbt, to_cbt};
 
 /// conv k3 → LeakyReLU → AdaIN (the reference's `StyleConv1dLayer`).
 #[derive(Module, Debug)]
@@ -25,7 +25,12 @@ impl StyleBlock {
     }
 
     pub fn forward(&self, x: Tensor<3>, cond: Tensor<2>) -> Tensor<3> {
-        self.adain.forward(self.conv.forward(x), cond)
+        from_cbt(self.forward_cbt(to_cbt(x), cond))
+    }
+
+    /// The same on the batch-inner layout `[C, B, T]` (see [`to_cbt`]).
+    pub fn forward_cbt(&self, x: Tensor<3>, cond: Tensor<2>) -> Tensor<3> {
+        self.adain.forward_cbt(self.conv.forward_cbt(x), cond)
     }
 }
 
@@ -59,9 +64,9 @@ impl Generator {
             None if self.label_dim > 0 => panic!("the supervised generator needs a style label"),
             _ => style,
         };
-        let x = self.block1.forward(content, cond.clone());
-        let x = self.block2.forward(x, cond.clone());
-        let x = self.block3.forward(x, cond);
-        self.out.forward(x)
+        let x = self.block1.forward_cbt(to_cbt(content), cond.clone());
+        let x = self.block2.forward_cbt(x, cond.clone());
+        let x = self.block3.forward_cbt(x, cond);
+        from_cbt(self.out.forward_cbt(x))
     }
 }

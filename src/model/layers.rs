@@ -23,7 +23,17 @@ pub const LEAKY_SLOPE: f64 = 0.2;
 pub const NORM_EPS: f64 = 1e-5;
 
 /// LeakyReLU with slope 0.2.
+///
+/// On an autodiff device (training) it is written `x + 0.8·relu(−x)`: Burn differentiates its LeakyReLU as a
+/// comparison, a scaling and a masked select (three masked passes over the activation in the
+/// backward, ~10 % of a training step on flex), ReLU with its own fused backward. Positive values
+/// come out exactly, negative ones within a rounding of `0.2·x`. Inference keeps Burn's fused
+/// LeakyReLU (the same bytes as before).
 pub fn leaky_relu<const D: usize>(x: Tensor<D>) -> Tensor<D> {
+    if x.device().is_autodiff() {
+        let negative = burn::tensor::activation::relu(x.clone().neg());
+        return x + negative * (1.0 - LEAKY_SLOPE);
+    }
     burn::tensor::activation::leaky_relu(x, LEAKY_SLOPE)
 }
 
@@ -75,11 +85,6 @@ pub fn one_hot(labels: &[usize], num_classes: usize, device: &Device) -> Tensor<
 /// The channels `range` of a `[B, C, T]` tensor (a slice of the feature layout, say).
 pub fn channels(x: Tensor<3>, range: std::ops::Range<usize>) -> Tensor<3> {
     x.narrow(1, range.start, range.len())
-}
-
-/// Tiles a per-sample vector `[B, S]` over `len` time steps: `[B, S, len]`.
-pub fn tile_time(v: Tensor<2>, len: usize) -> Tensor<3> {
-    v.unsqueeze_dim::<3>(2).repeat_dim(2, len)
 }
 
 /// A 1-D convolution with Xavier-normal weights and (optionally) a zero bias. `zero_pad` frames of
@@ -211,14 +216,22 @@ pub struct ConvLayer {
 }
 
 impl ConvLayer {
+    /// `x`: `[B, C_in, T]` → `[B, C_out, T']`.
     pub fn forward(&self, x: Tensor<3>) -> Tensor<3> {
+        from_cbt(self.forward_cbt(to_cbt(x)))
+    }
+
+    /// The same layer on the batch-inner layout `[C_in, B, T]` → `[C_out, B, T']` (see
+    /// [`to_cbt`]): chains of layers stay in it, so the convolution's matrix product needs no
+    /// transposition of its input or output (in training, none in the backward either).
+    pub fn forward_cbt(&self, x: Tensor<3>) -> Tensor<3> {
         let x = if self.upsample { upsample_nearest2(x) } else { x };
         let x = reflect_pad_time(x, self.reflect_pad);
         // The convolution as one matrix product for the batch on the weights as stored, in
         // inference and in training (there differentiated as plain tensor ops: its backward is two
         // matrix products, 1.3-1.9x faster than Burn's convolution backward on flex;
         // `examples/conv_train_bench.rs`).
-        let mut x = conv1d_gemm(&self.conv, x);
+        let mut x = conv1d_gemm_cbt(&self.conv, x);
         if self.instance_norm {
             x = instance_norm(x);
         }
@@ -232,41 +245,77 @@ impl ConvLayer {
     }
 }
 
-/// `conv`'s convolution (dilation 1, one group; its own zero padding if any) as one matrix
-/// product for the whole batch: the kernel's taps of the input stacked into columns
-/// `[C_in·k, B·T_out]` (ordered channel-major, tap-minor: the weight's own `[C_out, C_in, k]`
-/// layout viewed as `[C_out, C_in·k]`, so no weight is copied or re-laid out), times the weight,
-/// plus the bias. Kernel 1 at stride 1 and kernel 3 at stride 1 or 2 (what the networks use);
-/// other shapes go to `conv.forward`. The same numbers as `conv.forward` up to float rounding
-/// (sums in another order). Burn's flex convolution re-lays out every weight into a new buffer
-/// and the input into channels-last on every call, then multiplies clip by clip; this is 1.1-1.3x
-/// faster natively, the same in wasm (bench/README.md).
+/// `[B, C, T]` → the batch-inner layout `[C, B, T]` the layers compute in (a view: a copy happens
+/// only where an operation needs contiguous data; none for one clip). Every per-sample operation
+/// of the networks (convolution over time, instance norm, upsampling, padding) works on time,
+/// the last axis, in either layout; in this one the convolution of the whole batch is a single
+/// matrix product `[C_out, C_in·k] × [C_in·k, B·T]` with no transposition around it.
+pub fn to_cbt(x: Tensor<3>) -> Tensor<3> {
+    let [b, c, t] = x.dims();
+    if b == 1 { x.reshape([c, 1, t]) } else { x.swap_dims(0, 1) }
+}
+
+/// `[C, B, T]` → `[B, C, T]`, the inverse of [`to_cbt`].
+pub fn from_cbt(x: Tensor<3>) -> Tensor<3> {
+    let [c, b, t] = x.dims();
+    if b == 1 { x.reshape([1, c, t]) } else { x.swap_dims(0, 1) }
+}
+
+/// A per-sample vector `[B, S]` tiled over `len` time steps in the batch-inner layout: `[S, B, len]`.
+pub fn tile_time_cbt(v: Tensor<2>, len: usize) -> Tensor<3> {
+    v.swap_dims(0, 1).unsqueeze_dim::<3>(2).repeat_dim(2, len)
+}
+
+/// The zero padding `conv1d_gemm_cbt` applies itself, or `None` for the shapes it leaves to
+/// `conv.forward` (dilation, groups, kernels other than 1 and 3, asymmetric padding).
+fn gemm_padding(conv: &Conv1d) -> Option<usize> {
+    let [_, _, k] = conv.weight.dims();
+    let stride = conv.stride;
+    let supported = conv.dilation == 1 && conv.groups == 1 && ((k == 1 && stride == 1) || (k == 3 && stride <= 2));
+    match &conv.padding {
+        PaddingConfig1d::Valid if supported => Some(0),
+        PaddingConfig1d::Explicit(l, r) if supported && l == r => Some(*l),
+        _ => None,
+    }
+}
+
+/// `conv`'s convolution on `[B, C_in, T]`: [`conv1d_gemm_cbt`] between layout changes.
 pub fn conv1d_gemm(conv: &Conv1d, x: Tensor<3>) -> Tensor<3> {
+    if gemm_padding(conv).is_none() {
+        return conv.forward(x);
+    }
+    from_cbt(conv1d_gemm_cbt(conv, to_cbt(x)))
+}
+
+/// `conv`'s convolution (dilation 1, one group; its own zero padding if any) on the batch-inner
+/// layout `[C_in, B, T]` → `[C_out, B, T_out]`, as one matrix product for the whole batch: the
+/// kernel's taps of the input stacked into columns `[C_in·k, B·T_out]` (ordered channel-major,
+/// tap-minor: the weight's own `[C_out, C_in, k]` layout viewed as `[C_out, C_in·k]`, so no weight
+/// is copied or re-laid out), times the weight, plus the bias. Kernel 1 at stride 1 and kernel 3
+/// at stride 1 or 2 (what the networks use); other shapes go to `conv.forward`. The same numbers
+/// as `conv.forward` up to float rounding (sums in another order). Burn's flex convolution
+/// re-lays out every weight into a new buffer and the input into channels-last on every call,
+/// then multiplies clip by clip; this is 1.1-1.3x faster natively, the same in wasm
+/// (bench/README.md).
+pub fn conv1d_gemm_cbt(conv: &Conv1d, x: Tensor<3>) -> Tensor<3> {
     let weight = conv.weight.val();
     let [c_out, c_in, k] = weight.dims();
     let stride = conv.stride;
-    let supported = conv.dilation == 1 && conv.groups == 1 && ((k == 1 && stride == 1) || (k == 3 && stride <= 2));
-    let pad = match &conv.padding {
-        PaddingConfig1d::Valid => Some(0),
-        PaddingConfig1d::Explicit(l, r) if l == r => Some(*l),
-        _ => None,
-    };
-    let (Some(pad), true) = (pad, supported) else { return conv.forward(x) };
-    let [b, _, t] = x.dims();
+    let Some(pad) = gemm_padding(conv) else { return to_cbt(conv.forward(from_cbt(x))) };
+    let [_, b, t] = x.dims();
     let x = if pad > 0 {
-        let zeros = Tensor::<3>::zeros([b, c_in, pad], &x.device());
+        let zeros = Tensor::<3>::zeros([c_in, b, pad], &x.device());
         Tensor::cat(vec![zeros.clone(), x, zeros], 2)
     } else {
         x
     };
     let t_pad = t + 2 * pad;
     if t_pad < k {
-        return conv.forward(x);
+        return to_cbt(conv.forward(from_cbt(x)));
     }
     let t_out = (t_pad - k) / stride + 1;
-    // Time of all clips side by side, `[C_in, B, T]`: one product for the whole batch (the
-    // weights packed once, and a wide right-hand side even where T is short).
-    let x = if b == 1 { x.reshape([c_in, 1, t_pad]) } else { x.swap_dims(0, 1) };
+    // Time of all clips side by side: one product for the whole batch (the weights packed once,
+    // and a wide right-hand side even where T is short).
     let cols = if k == 1 {
         x.reshape([c_in, b * t_out])
     } else {
@@ -292,8 +341,7 @@ pub fn conv1d_gemm(conv: &Conv1d, x: Tensor<3>) -> Tensor<3> {
         Some(bias) => out + bias.val().reshape([c_out, 1]),
         None => out,
     };
-    let out = out.reshape([c_out, b, t_out]);
-    if b == 1 { out.reshape([1, c_out, t_out]) } else { out.swap_dims(0, 1) }
+    out.reshape([c_out, b, t_out])
 }
 
 /// Adaptive instance normalisation: `γ · IN(x) + β`, with `[γ ; β]` from one linear layer on the
@@ -322,6 +370,15 @@ impl AdaIn {
         let gb = self.linear.forward(cond);
         let gamma = gb.clone().narrow(1, 0, c).unsqueeze_dim::<3>(2);
         let beta = gb.narrow(1, c, c).unsqueeze_dim::<3>(2);
+        instance_norm(x) * gamma + beta
+    }
+
+    /// The same on the batch-inner layout: `x`: `[C, B, T]`, `cond`: `[B, cond_dim]`.
+    pub fn forward_cbt(&self, x: Tensor<3>, cond: Tensor<2>) -> Tensor<3> {
+        let c = self.channels;
+        let gb = self.linear.forward(cond).swap_dims(0, 1);
+        let gamma = gb.clone().narrow(0, 0, c).unsqueeze_dim::<3>(2);
+        let beta = gb.narrow(0, c, c).unsqueeze_dim::<3>(2);
         instance_norm(x) * gamma + beta
     }
 }

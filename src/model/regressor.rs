@@ -11,7 +11,7 @@
 use burn::prelude::*;
 
 use super::config::ModelConfig;
-use super::layers::{ConvLayer, ConvLayerConfig, channels};
+use super::layers::{ConvLayer, ConvLayerConfig, channels, from_cbt, to_cbt};
 use crate::features::{MODEL_DIM, REGRESSOR_DIM, ROOT_ANG_VEL, ROOT_HEIGHT, ROOT_LIN_VEL};
 
 #[derive(Module, Debug)]
@@ -35,7 +35,8 @@ impl GlobalRegressor {
 
     /// `x`: `[B, 254, T]` (see [`regressor_input`]) → root ground velocity `[B, 2, T]`.
     pub fn forward(&self, x: Tensor<3>) -> Tensor<3> {
-        self.out.forward(self.conv3.forward(self.conv2.forward(self.conv1.forward(x))))
+        let h = self.conv3.forward_cbt(self.conv2.forward_cbt(self.conv1.forward_cbt(to_cbt(x))));
+        from_cbt(self.out.forward_cbt(h))
     }
 }
 

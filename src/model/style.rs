@@ -8,7 +8,7 @@
 use burn::prelude::*;
 
 use super::config::ModelConfig;
-use super::layers::{ConvLayer, ConvLayerConfig, tile_time};
+use super::layers::{ConvLayer, ConvLayerConfig, tile_time_cbt, to_cbt};
 
 /// A diagonal Gaussian over style codes, `[B, style_dim]` each.
 #[derive(Clone, Debug)]
@@ -60,20 +60,20 @@ impl StyleEncoder {
     /// `z`: `[B, D_z, L]`; `label`: one-hot `[B, S]`, required iff the encoder is supervised
     /// (callers check; see [`crate::model::Model`]).
     pub fn forward(&self, z: Tensor<3>, label: Option<Tensor<2>>) -> StyleDistribution {
-        let h = self.down1.forward(z);
+        let h = self.down1.forward_cbt(to_cbt(z));
         let h = match label {
             Some(label) if self.label_dim > 0 => {
                 let len = h.dims()[2];
-                Tensor::cat(vec![h, tile_time(label, len)], 1)
+                Tensor::cat(vec![h, tile_time_cbt(label, len)], 0)
             }
             None if self.label_dim > 0 => panic!("the supervised style encoder needs a style label"),
             _ => h,
         };
-        let h = self.down3.forward(self.down2.forward(h));
+        let h = self.down3.forward_cbt(self.down2.forward_cbt(h));
         // Global average pool over time, then the k1 conv on the single remaining step.
-        let g = self.out.forward(h.mean_dim(2));
-        let [b, c, _] = g.dims();
-        let g = g.reshape([b, c]);
+        let g = self.out.forward_cbt(h.mean_dim(2));
+        let [c, b, _] = g.dims();
+        let g = g.reshape([c, b]).swap_dims(0, 1);
         let d = self.style_dim;
         StyleDistribution { mean: g.clone().narrow(1, 0, d), logvar: g.narrow(1, d, d) }
     }
