@@ -5,6 +5,7 @@ export type ErrorCode =
   | 'BVH_PARSE' // the text is not BVH the reader accepts (also has `line` and `kind`)
   | 'RIG_UNMATCHED' // the skeleton lacks joints the canonical rig needs
   | 'RIG_DEGENERATE' // the skeleton has no usable geometry
+  | 'NOT_HUMAN' // the skeleton is no human body (a quadruped, a single chain, limbs the wrong way)
   | 'RIG_MISMATCH'
   | 'TOO_LONG' // a clip beyond the limits (stylization: 9,000 frames at 30 fps)
   | 'BAD_MOTION' // the motion has non-finite values

@@ -809,6 +809,9 @@ fn non_humans_are_refused() {
         let err = import_bvh(&chain(names)).unwrap_err();
         assert_eq!(err.code(), "NOT_HUMAN", "{names:?}: {err}");
     }
+    // A file of two joints is no skeleton to judge: its error names the joints it lacks.
+    let small = std::fs::read_to_string(format!("{}/tests/fixtures/small.bvh", env!("CARGO_MANIFEST_DIR"))).unwrap();
+    assert_eq!(import_bvh(&small).unwrap_err().code(), "RIG_UNMATCHED");
     // Legs pointing up from the hips in every frame.
     let m21 = fixture("foreign", "m21_walk");
     let mut upside = m21.clone();

@@ -223,9 +223,10 @@ impl UserRig {
             }
         };
         let det = auto.map_err(|e| {
-            // One or two chains cannot be two arms and two legs, whatever the names.
+            // One or two chains (of four joints or more: a smaller file is no skeleton to judge, its
+            // error names the missing joints) cannot be two arms and two legs, whatever the names.
             let ends = (0..joints.len()).filter(|&u| !joints.iter().any(|j| j.parent == Some(u))).count();
-            if ends <= 2 {
+            if ends <= 2 && joints.len() >= 4 {
                 ImportError::NotHuman {
                     reason: format!("{} joints with {ends} end(s): a human has two arms and two legs", joints.len()),
                 }

@@ -24,7 +24,7 @@ pub struct ImportedMotion {
 #[wasm_bindgen(js_class = Motion)]
 impl ImportedMotion {
     /// Parses BVH text of any rig the importer accepts. Errors: `BVH_PARSE` (with `line`, `kind`),
-    /// `RIG_UNMATCHED`, `RIG_DEGENERATE`, `TOO_LONG`, `BAD_MOTION`.
+    /// `RIG_UNMATCHED`, `RIG_DEGENERATE`, `NOT_HUMAN`, `TOO_LONG`, `BAD_MOTION`.
     #[wasm_bindgen(js_name = fromBvh)]
     pub fn from_bvh(text: &str) -> Result<ImportedMotion, JsValue> {
         panic::install();
