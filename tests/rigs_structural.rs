@@ -192,6 +192,10 @@ fn rerig(spec: &Spec) -> Bvh {
     if spec.z_up || spec.scale != 1.0 {
         bvh = transform_world(&bvh, world, spec.scale);
     }
+    // Five decimals (degrees, file units) keep the files small.
+    for v in &mut bvh.values {
+        *v = (*v * 1e5).round() / 1e5 + 0.0;
+    }
     bvh
 }
 
@@ -689,7 +693,7 @@ fn renamed_families_retarget_like_the_original() {
     for file in ["daz_poser", "second_life"] {
         let imp = import(&rig_fixture(file).1).unwrap();
         let e = max_position_error(&original, &imp.motion);
-        assert!(e < 1e-6, "{file}: {e:e} cm from m21's own import");
+        assert!(e < 1e-3, "{file}: {e:e} cm from m21's own import (the files keep five decimals)");
     }
 }
 
