@@ -34,7 +34,7 @@ pub fn run(file: &Path, as_json: bool, map_file: Option<&Path>) -> anyhow::Resul
         Err(e) => {
             let (rig, guess) = match rigs::detect(&bvh.joints) {
                 Ok(d) => (d.rig.to_string(), d.map),
-                Err(u) => (u.rig.to_string(), u.map),
+                Err(u) => (u.rig.to_string(), *u.map),
             };
             let (rig, missing) = match e {
                 ImportError::MissingJoints { missing, rig } => (rig.clone(), missing.clone()),

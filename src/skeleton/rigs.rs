@@ -67,7 +67,7 @@ pub struct Unmatched {
     pub rig: &'static str,
     pub missing: Vec<String>,
     /// That scheme's (partial) match: the best guesses.
-    pub map: JointMap,
+    pub map: Box<JointMap>,
 }
 
 /// The name a table entry is compared by: the part after any `namespace:` (or `a|b:`) prefix,
@@ -206,7 +206,7 @@ pub fn detect(joints: &[BvhJoint]) -> Result<Detection, Unmatched> {
         .iter()
         .min_by_key(|c| (missing_required(&c.1).len(), usize::MAX - score(&c.1)))
         .expect("the generic candidate is always there");
-    Err(Unmatched { rig, missing: missing_required(map), map: *map })
+    Err(Unmatched { rig, missing: missing_required(map), map: Box::new(*map) })
 }
 
 /// Names of the required canonical joints `map` lacks.
