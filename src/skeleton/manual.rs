@@ -124,3 +124,57 @@ pub fn map_json(joints: &[BvhJoint], map: &JointMap) -> serde_json::Value {
         .collect();
     serde_json::Value::Object(obj)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::skeleton::canonical::joint::*;
+    use glam::DVec3;
+
+    fn joints(names: &[&str]) -> Vec<BvhJoint> {
+        names
+            .iter()
+            .enumerate()
+            .map(|(k, n)| BvhJoint {
+                name: n.to_string(),
+                parent: k.checked_sub(1),
+                offset: DVec3::ZERO,
+                channels: vec![],
+                end_site: None,
+                channel_offset: 0,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn parses_and_applies() {
+        let m = ManualMap::from_json(r#"{"Hips": "a", "Head": null, "Spine": "b"}"#).unwrap();
+        let j = joints(&["a", "b", "c"]);
+        let mut base = [None; NUM_JOINTS];
+        base[HEAD] = Some(2);
+        base[CHEST] = Some(1); // taken by the explicit Spine: dropped
+        let map = m.apply(&j, Some(base)).unwrap();
+        assert_eq!((map[HIPS], map[SPINE], map[CHEST], map[HEAD]), (Some(0), Some(1), None, None));
+        // inspect's whole object: its `map`.
+        let whole = ManualMap::from_json(r#"{"rig": "x", "map": {"Hips": "a"}}"#).unwrap();
+        assert_eq!(whole, ManualMap::from_pairs([("Hips", Some("a"))]).unwrap());
+        assert_eq!(map_json(&j, &map)["Spine"], "b");
+        assert_eq!(map_json(&j, &map).as_object().unwrap().len(), NUM_JOINTS);
+    }
+
+    #[test]
+    fn refuses_what_cannot_be_used() {
+        let j = joints(&["a", "b"]);
+        let code = |text: &str| match ManualMap::from_json(text).and_then(|m| m.apply(&j, None)) {
+            Err(e) => (e.code(), e.to_string()),
+            Ok(_) => ("ok", String::new()),
+        };
+        assert_eq!(code("{").0, "BAD_MAP");
+        assert!(code(r#"{"Root": "a"}"#).1.contains("no canonical joint"));
+        assert!(code(r#"{"Hips": 3}"#).1.contains("expected a joint name"));
+        assert!(code(r#"{"Hips": "zz"}"#).1.contains("has no joint"));
+        assert!(code(r#"{"Hips": "a", "Spine": "a"}"#).1.contains("plays both"));
+        let long = format!(r#"{{"Hips": "{}"}}"#, "x".repeat(10_000));
+        assert!(code(&long).1.len() < 200, "quoted names are cut");
+    }
+}
