@@ -30,6 +30,8 @@ export type Bytes = Uint8Array | ArrayBuffer | ArrayBufferView;
 export interface WeightFiles {
   manifest: Bytes | string;
   norm: Bytes | string;
+  /** The networks both stylizers share (shared.bin; manifest format 2). */
+  shared?: Bytes;
   supervised?: Bytes;
   unsupervised?: Bytes;
 }
@@ -38,10 +40,13 @@ export interface WeightFiles {
 export interface LoadProgress {
   loaded: number;
   /**
-   * The sum of the files' sizes as announced (Content-Length, or the file sizes in Node); 0 while
-   * unknown. Only the last call, once every byte has arrived, has `loaded === total`.
+   * The sum of the files' sizes as the manifest lists them (or as announced: Content-Length, the
+   * file sizes in Node); 0 while unknown. Only the last call of a download, once every byte has
+   * arrived, has `loaded === total`.
    */
   total: number;
+  /** The model this download is for: the first one at load, another when it is first used. */
+  setting?: 'supervised' | 'unsupervised';
 }
 
 export interface LoadOptions {
@@ -52,13 +57,18 @@ export interface LoadOptions {
    */
   weights?: string | URL | WeightFiles | Stylizer;
   /**
-   * Called as the weights are fetched (or read): the statistics and model bundles (manifest.json,
-   * a few kB, is read first and not counted). Not called for weights given as bytes or a Stylizer.
+   * Called as the weights are fetched (or read, or taken from the browser's cache): at load the
+   * statistics, the shared networks and the first model (manifest.json, a few kB, is read first
+   * and not counted); later, the file of a model fetched when it is first used. Not called for
+   * weights given as bytes.
    */
   onProgress?: (progress: LoadProgress) => void;
   /** 'cpu' (default, Burn flex with wasm SIMD); 'webgpu' falls back to 'cpu' (see fallbackReason). */
   backend?: 'cpu' | 'webgpu' | 'ndarray';
-  /** Which models to load (default both). */
+  /**
+   * Which models may be used (default both, in this order): the first one the weights have is
+   * loaded now, the others when first used (fetched then, from a folder).
+   */
   settings?: Array<'supervised' | 'unsupervised'>;
 }
 
@@ -195,7 +205,10 @@ export class Stylizer {
    */
   readonly weightsId: string;
   styles(): string[];
+  /** The models it can use: those loaded and those it fetches when first used. */
   settings(): Array<'supervised' | 'unsupervised'>;
+  /** The models loaded now. */
+  loadedSettings(): Array<'supervised' | 'unsupervised'>;
   importBvh(text: string): Motion;
   stylize(content: Motion | string, options: StylizeOptions): Promise<StylizedMotion[]>;
   /** The supervised model's style label for a reference (the one it reconstructs the motion best under). */

@@ -16,6 +16,16 @@ function codedError(code, message) {
   return Object.assign(new Error(message), { code });
 }
 
+/**
+ * The fingerprint of the package's own weights (FNV-1a 32 of their manifest.json, which lists
+ * every other file's size and FNV-1a 64): written here by scripts/build-pkg.sh, so that a
+ * browser that has them cached fetches nothing, not even the manifest. null: unknown (fetch it).
+ */
+const BUNDLED_WEIGHTS_ID = null;
+
+/** Cache API names: this prefix and a manifest's fingerprint. */
+const CACHE_PREFIX = 'motion-stylizer-weights-';
+
 /** Bytes of a package file (or any URL). */
 async function readUrl(url) {
   const file = await open(url);
@@ -45,6 +55,11 @@ async function open(url) {
     throw codedError('FETCH', `cannot fetch ${url}: ${e.message}`);
   }
   if (!response.ok) throw codedError('FETCH', `cannot fetch ${url}: HTTP ${response.status}`);
+  return opened(response);
+}
+
+/** An opened Response (fetched or cached): see open(). */
+function opened(response) {
   const read = async (onBytes) => {
     const chunks = [];
     const reader = response.body?.getReader();
@@ -54,24 +69,120 @@ async function open(url) {
     }
     return new Uint8Array(await new Blob(chunks).arrayBuffer());
   };
-  return { size: Number(response.headers.get('content-length')) || 0, read };
+  // A compressed response announces its compressed size: no size, then (the manifest's is used).
+  const encoded = (response.headers.get('content-encoding') ?? 'identity') !== 'identity';
+  return { size: encoded ? 0 : Number(response.headers.get('content-length')) || 0, read };
+}
+
+/** The Cache API's cache `name`, or null where there is none (Node, file: URLs, an opaque origin). */
+async function openCache(name) {
+  try {
+    return globalThis.caches ? await globalThis.caches.open(name) : null;
+  } catch {
+    return null;
+  }
 }
 
 /**
- * The bytes of `urls`, read in parallel, reporting onProgress({loaded, total}) as they arrive:
- * `total` is the sum of the sizes announced (0 where one is not announced, or where more arrives
- * than announced); the last call, once everything has arrived, and only it, has loaded === total.
+ * A weights folder: its files read through the browser's Cache API (the cache named by the
+ * manifest's fingerprint), fetched and stored there when missing; in Node, read from disk.
  */
-async function readAll(urls, onProgress) {
-  const files = await Promise.all(urls.map(open));
-  const announced = files.every((f) => f.size > 0) ? files.reduce((sum, f) => sum + f.size, 0) : 0;
+class Folder {
+  constructor(dir, cache) {
+    this.dir = dir;
+    this.cache = cache;
+    this.fromCache = false;
+  }
+
+  static async open(dir) {
+    const http = dir.protocol === 'http:' || dir.protocol === 'https:';
+    // The package's own weights, fingerprint known: the manifest itself may come from the cache.
+    if (http && BUNDLED_WEIGHTS_ID && dir.href === new URL('./weights/', import.meta.url).href) {
+      const cache = await openCache(CACHE_PREFIX + BUNDLED_WEIGHTS_ID);
+      const folder = new Folder(dir, cache);
+      folder.manifest = await folder.read('manifest.json');
+      folder.id = BUNDLED_WEIGHTS_ID;
+      return folder;
+    }
+    const folder = new Folder(dir, null);
+    folder.manifest = await readUrl(new URL('manifest.json', dir));
+    folder.id = fingerprint(folder.manifest);
+    if (http) folder.cache = await openCache(CACHE_PREFIX + folder.id);
+    return folder;
+  }
+
+  /** Opens `name` (see open()): from the cache where it is there. */
+  async open(name) {
+    const url = new URL(name, this.dir);
+    const hit = await this.cache?.match(url).catch(() => undefined);
+    if (hit) {
+      this.fromCache = true;
+      return opened(hit);
+    }
+    const file = await open(url);
+    if (!this.cache) return file;
+    const cache = this.cache;
+    return {
+      size: file.size,
+      read: async (onBytes) => {
+        const bytes = await file.read(onBytes);
+        const headers = { 'content-type': 'application/octet-stream', 'content-length': String(bytes.length) };
+        // Stored in the background: the first stylization does not wait for it.
+        cache.put(url, new Response(bytes, { headers })).catch(() => {});
+        return bytes;
+      },
+    };
+  }
+
+  async read(name) {
+    return (await this.open(name)).read(() => {});
+  }
+
+  /** After a load: the caches of other weights go (the browser keeps one copy of the weights). */
+  async prune() {
+    if (!this.cache || !globalThis.caches) return;
+    try {
+      for (const name of await globalThis.caches.keys()) {
+        if (name.startsWith(CACHE_PREFIX) && name !== CACHE_PREFIX + this.id) await globalThis.caches.delete(name);
+      }
+    } catch {
+      // Best effort.
+    }
+  }
+
+  /** Cached bytes that the engine refused (a damaged cache): dropped, to be fetched again. */
+  async forget() {
+    if (!this.cache) return false;
+    this.cache = null;
+    try {
+      await globalThis.caches.delete(CACHE_PREFIX + this.id);
+    } catch {
+      // Best effort.
+    }
+    this.cache = await openCache(CACHE_PREFIX + this.id);
+    this.fromCache = false;
+    return true;
+  }
+}
+
+/**
+ * The bytes of the files `listed` ({file, bytes} each, bytes 0 where unknown) of `folder`, read in
+ * parallel, reporting onProgress({loaded, total, ...extra}) as they arrive: `total` is the sum of
+ * the sizes listed (or announced by the server where the list has none; 0 where neither says, or
+ * where more arrives than that); the last call, once everything has arrived, and only it, has
+ * loaded === total.
+ */
+async function readAll(folder, listed, onProgress, extra = {}) {
+  const files = await Promise.all(listed.map((f) => folder.open(f.file)));
+  const sizes = files.map((f, i) => listed[i].bytes || f.size);
+  const announced = sizes.every((n) => n > 0) ? sizes.reduce((sum, n) => sum + n, 0) : 0;
   let loaded = 0;
   const report = (n) => {
     loaded += n;
-    if (n > 0 && loaded !== announced) onProgress?.({ loaded, total: loaded < announced ? announced : 0 });
+    if (n > 0 && loaded !== announced) onProgress?.({ loaded, total: loaded < announced ? announced : 0, ...extra });
   };
   const bytes = await Promise.all(files.map((f) => f.read(report)));
-  onProgress?.({ loaded, total: loaded });
+  onProgress?.({ loaded, total: loaded, ...extra });
   return bytes;
 }
 
@@ -142,29 +253,31 @@ function fingerprint(...parts) {
 
 const SETTINGS = ['supervised', 'unsupervised'];
 
+/** The engine's list of a manifest's files: {format, norm, shared, models: [{setting, file, bytes}]}. */
+function fileList(manifest) {
+  return JSON.parse(guard(() => wasm.weightFileList(manifest)));
+}
+
 /**
- * The weight files from a folder URL: manifest.json, the statistics and bundles it names, with
- * onProgress over the statistics and bundles. A relative URL is relative to the page (browsers)
- * or to this package (Node, where absolute paths work as they are).
+ * The weights folder at `base` opened, with the manifest's file list and the bytes of what is
+ * loaded first: the statistics, the shared networks (format 2) and the first of `settings` the
+ * manifest lists (the others are fetched when first used), with onProgress over them. A relative
+ * URL is relative to the page (browsers) or to this package (Node, where absolute paths work as
+ * they are).
  */
 async function fetchWeights(base, settings, onProgress) {
   const href = base.toString();
   const dir = new URL(href.endsWith('/') ? href : `${href}/`, globalThis.location?.href ?? import.meta.url);
-  const manifestBytes = await readUrl(new URL('manifest.json', dir));
-  let manifest;
-  try {
-    manifest = JSON.parse(new TextDecoder().decode(manifestBytes));
-  } catch (e) {
-    throw codedError('BAD_WEIGHTS', `manifest.json: ${e.message}`);
-  }
-  const wanted = (manifest.models ?? []).filter((e) => SETTINGS.includes(e.setting) && settings.includes(e.setting));
-  const urls = [String(manifest.norm ?? 'norm.json'), ...wanted.map((e) => String(e.file))].map((f) => new URL(f, dir));
-  const [norm, ...bundles] = await readAll(urls, onProgress);
-  const files = { manifest: manifestBytes, norm };
-  wanted.forEach((e, i) => {
-    files[e.setting] = bundles[i];
-  });
-  return files;
+  const [folder] = await Promise.all([Folder.open(dir), initEngine()]);
+  const list = fileList(folder.manifest);
+  const listed = list.models.filter((m) => settings.includes(m.setting));
+  const first = settings.map((s) => listed.find((m) => m.setting === s)).find(Boolean);
+  const wanted = [list.norm, ...(list.shared ? [list.shared] : []), ...(first ? [first] : [])];
+  const [norm, ...rest] = await readAll(folder, wanted, onProgress, first ? { setting: first.setting } : {});
+  const files = { manifest: folder.manifest, norm };
+  if (list.shared) files.shared = rest.shift();
+  if (first) files[first.setting] = rest.shift();
+  return { folder, list, files };
 }
 
 // Module-internal access to the classes' private state (set in their static blocks).
@@ -394,11 +507,19 @@ export class Stylizer {
   #engineBackend;
   #engine = null;
   #made = -1;
+  /** Where settings not loaded yet come from: {folder, list, onProgress} (a fetched folder), or null. */
+  #source;
+  /** The settings this Stylizer may use (the manifest's, limited by the `settings` option). */
+  #allowed;
+  /** Downloads in flight, by setting. */
+  #pending = new Map();
 
   /** @internal */
-  constructor(files, engineBackend, fallbackReason) {
+  constructor(files, engineBackend, fallbackReason, source, allowed) {
     this.#files = files;
     this.#engineBackend = engineBackend;
+    this.#source = source;
+    this.#allowed = allowed;
     const backend = guard(() => this.#live().backend);
     this.backend = backend === 'flex' ? 'cpu' : backend;
     this.fallbackReason = fallbackReason;
@@ -407,23 +528,60 @@ export class Stylizer {
   }
 
   static {
-    weightFilesOf = (s) => s.#files;
+    weightFilesOf = (s) => ({ files: s.#files, source: s.#source });
   }
 
-  /** The engine; built again from the weights' bytes if the instance was replaced or it was freed. */
+  /**
+   * The engine; built again from the weights' bytes if the instance was replaced or it was freed
+   * (with every setting whose bytes it has: the first at construction, the others added).
+   */
   #live() {
     if (this.#engine == null || this.#made !== generation) {
       const f = this.#files;
-      this.#engine = guard(() => new wasm.Engine(f.manifest, f.norm, f.supervised, f.unsupervised, this.#engineBackend));
+      const [first, ...others] = SETTINGS.filter((s) => f[s] != null);
+      const engine = guard(() => new wasm.Engine(f.manifest, f.norm, f.shared, first === 'supervised' ? f.supervised : undefined, first === 'unsupervised' ? f.unsupervised : undefined, this.#engineBackend));
+      try {
+        for (const s of others) guard(() => engine.addSetting(s, f[s]));
+      } catch (e) {
+        engine.free();
+        throw e;
+      }
+      this.#engine = engine;
       this.#made = generation;
     }
     return this.#engine;
   }
 
   /**
+   * Makes `setting` usable: a no-op where it is loaded, where the `settings` option leaves it out
+   * or where the manifest has none (the engine's SETTING_UNAVAILABLE then says so); otherwise its
+   * file is fetched (once, however many calls wait for it: reported to onProgress with
+   * `setting`) and added to the engine.
+   */
+  async #ensure(setting) {
+    if (this.#files[setting] != null || !this.#allowed.includes(setting)) return;
+    const entry = this.#source?.list.models.find((m) => m.setting === setting);
+    if (!entry) return;
+    if (!this.#pending.has(setting)) {
+      const { folder, onProgress } = this.#source;
+      const job = readAll(folder, [entry], onProgress, { setting }).then(([bytes]) => {
+        guard(() => this.#live().addSetting(setting, bytes));
+        this.#files = { ...this.#files, [setting]: bytes };
+      });
+      this.#pending.set(setting, job);
+      job.catch(() => {}).finally(() => this.#pending.delete(setting));
+    }
+    await this.#pending.get(setting);
+  }
+
+  /**
    * Initialises the wasm module and loads weights: the package's own (default), a folder URL,
-   * the files' bytes {manifest, norm, supervised?, unsupervised?}, or another Stylizer's (no
-   * fetch). onProgress({loaded, total}): bytes of the weights as they are fetched or read.
+   * the files' bytes {manifest, norm, shared?, supervised?, unsupervised?}, or another Stylizer's
+   * (no fetch). From a folder only the statistics, the shared networks and the first of
+   * `settings` (default ['supervised', 'unsupervised']) are fetched now; another setting is
+   * fetched when it is first used. In a browser the files are kept in the Cache API (a cache
+   * named by the manifest's fingerprint): a second visit fetches nothing.
+   * onProgress({loaded, total, setting}): bytes of the weights as they are fetched or read.
    */
   static async load(options = {}) {
     const started = performance.now();
@@ -442,32 +600,60 @@ export class Stylizer {
         : 'this build has no WebGPU backend (and this environment has no navigator.gpu)';
     }
     const fetched = weights == null || typeof weights === 'string' || weights instanceof URL;
-    const [files] = await Promise.all([
-      fetched ? fetchWeights(weights ?? new URL('./weights/', import.meta.url), settings, onProgress) : weights,
-      initEngine(),
-    ]);
-    if (typeof files !== 'object') throw codedError('BAD_WEIGHTS', 'weights must be a URL, {manifest, norm, ...} or a Stylizer');
-    const given = files instanceof Stylizer ? weightFilesOf(files) : files;
+    if (!fetched && (weights == null || typeof weights !== 'object')) {
+      throw codedError('BAD_WEIGHTS', 'weights must be a URL, {manifest, norm, ...} or a Stylizer');
+    }
+    let given;
+    let source = null;
+    if (fetched) {
+      const { folder, list, files } = await fetchWeights(weights ?? new URL('./weights/', import.meta.url), settings, onProgress);
+      given = files;
+      source = { folder, list, onProgress };
+    } else {
+      await initEngine();
+      if (weights instanceof Stylizer) {
+        ({ files: given, source } = weightFilesOf(weights));
+        if (source) source = { ...source, onProgress };
+      } else {
+        given = weights;
+      }
+    }
     const pick = (s) => (settings.includes(s) ? toBytes(given[s], s) : undefined);
     const bytes = {
       manifest: toBytes(given.manifest, 'manifest') ?? new Uint8Array(),
       norm: toBytes(given.norm, 'norm') ?? new Uint8Array(),
+      shared: toBytes(given.shared, 'shared'),
       supervised: pick('supervised'),
       unsupervised: pick('unsupervised'),
     };
-    const stylizer = new Stylizer(bytes, engineBackend, fallbackReason);
+    let stylizer;
+    try {
+      stylizer = new Stylizer(bytes, engineBackend, fallbackReason, source, settings);
+    } catch (e) {
+      // Cached bytes the engine refuses (a damaged cache): dropped and fetched again, once.
+      if (e.code !== 'BAD_WEIGHTS' || !source?.folder.fromCache || !(await source.folder.forget())) throw e;
+      return Stylizer.load(options);
+    }
+    source?.folder.prune();
     stylizer.loadMs = performance.now() - started;
     return stylizer;
+  }
+
+  /** The settings this Stylizer can use: those loaded and those it fetches when first used. */
+  settings() {
+    const listed = guard(() => this.#live().listed());
+    const fetchable = (s) => this.#source?.list.models.some((m) => m.setting === s);
+    return listed.filter((s) => this.#allowed.includes(s) && (this.#files[s] != null || fetchable(s)));
+  }
+
+  /** The settings whose model is loaded now. */
+  loadedSettings() {
+    return guard(() => this.#live().settings());
   }
 
   /** The style labels. */
   styles() {
     return guard(() => this.#live().styles());
-  }
-
-  /** The models loaded: 'supervised', 'unsupervised'. */
-  settings() {
-    return guard(() => this.#live().settings());
   }
 
   /** Imports BVH text of any rig the importer knows; errors BVH_PARSE, RIG_UNMATCHED, ... */
@@ -491,8 +677,9 @@ export class Stylizer {
    * content itself, 1 the default, 2 exaggerated).
    */
   async stylize(content, options = {}) {
-    const motion = engineMotion(this.asMotion(content, 'content'));
     const { unsupervised = false, samples = 1, seed = 0, rig = 'content', temperature, strength } = options;
+    if (typeof unsupervised === 'boolean') await this.#ensure(unsupervised ? 'unsupervised' : 'supervised');
+    const motion = engineMotion(this.asMotion(content, 'content'));
     if (rig !== 'content' && rig !== 'canonical') throw codedError('BAD_REQUEST', "rig must be 'content' or 'canonical'");
     if (typeof samples !== 'number') throw codedError('BAD_REQUEST', 'samples must be a number');
     if (typeof unsupervised !== 'boolean') throw codedError('BAD_REQUEST', 'unsupervised must be a boolean');

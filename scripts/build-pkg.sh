@@ -28,6 +28,18 @@ cp LICENSE* "$out/" 2>/dev/null || true
 # The shipped weights: every file of assets/weights/ (manifest, statistics, one bundle per setting,
 # their README). The package's JS is the one reader of the manifest.
 find assets/weights -maxdepth 1 -type f -exec cp {} "$out/weights/" \;
+# Their fingerprint (FNV-1a 32 of manifest.json, which lists every other file's size and FNV-1a
+# 64) into index.js: a browser with them in its cache fetches nothing, not even the manifest.
+node -e '
+  const fs = require("fs");
+  let h = 0x811c9dc5;
+  for (const b of fs.readFileSync(process.argv[1])) h = Math.imul(h ^ b, 0x01000193) >>> 0;
+  const id = h.toString(16).padStart(8, "0");
+  const js = fs.readFileSync(process.argv[2], "utf8");
+  const line = "const BUNDLED_WEIGHTS_ID = null;";
+  if (!js.includes(line)) throw new Error("index.js has no " + line);
+  fs.writeFileSync(process.argv[2], js.replace(line, `const BUNDLED_WEIGHTS_ID = "${id}";`));
+' "$out/weights/manifest.json" "$out/index.js"
 
 # package.json with the crate's version.
 version=$(awk -F'"' '/^version = / { print $2; exit }' Cargo.toml)

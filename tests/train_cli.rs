@@ -5,7 +5,7 @@
 
 use burn::prelude::*;
 use motion_stylizer::features::NormStats;
-use motion_stylizer::model::weights::load_bundle;
+use motion_stylizer::model::weights::load_stylizer;
 use motion_stylizer::stylize::manifest::Manifest;
 use motion_stylizer::train::rundir::{self, Checkpoint, CsvTable, RunLog};
 use std::path::{Path, PathBuf};
@@ -203,10 +203,15 @@ fn stylizer_trains_in_both_settings_and_exports() {
         assert!(!ae_stage.final_losses.contains_key("lr"));
         assert!(entry.stages[1].heldout.contains_key("hsa") && !entry.stages[1].machine.is_empty());
         let bytes = std::fs::read(weights.join(&entry.file)).unwrap();
-        let (config, _model) = load_bundle(&bytes, &Device::flex()).unwrap();
+        assert_eq!(entry.bytes, Some(bytes.len() as u64));
+        let (config, _stylizer) = load_stylizer(&bytes, &Device::flex()).unwrap();
         assert_eq!(config.supervised, supervised);
         assert_eq!(config.num_styles, 16);
     }
+    // Format 2: one shared autoencoder + regressor, both settings loadable on it.
+    assert_eq!(manifest.shared.as_ref().map(|s| s.file.file.as_str()), Some("shared.bin"));
+    let loaded = motion_stylizer::stylize::Weights::load_dir(&weights).unwrap();
+    assert_eq!(loaded.settings().len(), 2);
     let _ = std::fs::remove_dir_all(&root);
 }
 

@@ -1,30 +1,64 @@
-//! `motion-stylizer export --sup RUN --unsup RUN --ae RUN -o assets/weights`: see
+//! `motion-stylizer export --sup RUN --unsup RUN --ae RUN -o assets/weights`, or
+//! `motion-stylizer export --from WEIGHTS_DIR -o OUT --shared q8 --stylizer q4g64`: see
 //! [`motion_stylizer::train::export`].
 
+use anyhow::Context;
 use clap::Args;
+use motion_stylizer::model::weights::PartEncoding;
+use motion_stylizer::train::export::Encodings;
 use std::path::PathBuf;
 
 #[derive(Args, Debug)]
 pub struct ExportArgs {
     /// The supervised `stylizer` run folder.
-    #[arg(long, value_name = "RUN_DIR")]
-    sup: PathBuf,
+    #[arg(long, value_name = "RUN_DIR", required_unless_present = "from")]
+    sup: Option<PathBuf>,
     /// The unsupervised `stylizer` run folder.
-    #[arg(long, value_name = "RUN_DIR")]
-    unsup: PathBuf,
+    #[arg(long, value_name = "RUN_DIR", required_unless_present = "from")]
+    unsup: Option<PathBuf>,
     /// The `ae` run folder the stylizers were trained on (provenance and norm.json).
-    #[arg(long, value_name = "RUN_DIR")]
-    ae: PathBuf,
+    #[arg(long, value_name = "RUN_DIR", required_unless_present = "from")]
+    ae: Option<PathBuf>,
+    /// Instead of runs: an existing weights folder (format 1 or 2), written again in format 2.
+    #[arg(long, value_name = "WEIGHTS_DIR", conflicts_with_all = ["sup", "unsup", "ae"])]
+    from: Option<PathBuf>,
+    /// Encoding of the shared networks' large layers: f16, q8 (int8, a scale per output
+    /// channel), q4 (int4), q4g64 (int4, a scale per 64 weights of an output channel), ...
+    #[arg(long, default_value = "f16", value_name = "ENCODING")]
+    shared: String,
+    /// Encoding of each stylizer's large layers (as --shared).
+    #[arg(long, default_value = "f16", value_name = "ENCODING")]
+    stylizer: String,
     /// Output folder.
     #[arg(short, long, default_value = "assets/weights", value_name = "DIR")]
     output: PathBuf,
 }
 
 pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
-    let manifest = motion_stylizer::train::export::export(&args.sup, &args.unsup, &args.ae, &args.output)?;
+    let parse = |flag: &str, spec: &str| {
+        PartEncoding::parse(spec).with_context(|| format!("--{flag} {spec:?}: not an encoding (f16, q8, q4, q4g64, ...)"))
+    };
+    let encodings = Encodings { shared: parse("shared", &args.shared)?, stylizer: parse("stylizer", &args.stylizer)? };
+    let manifest = match (&args.from, &args.sup, &args.unsup, &args.ae) {
+        (Some(from), ..) => motion_stylizer::train::export::repack(from, &args.output, encodings)?,
+        (None, Some(sup), Some(unsup), Some(ae)) => {
+            motion_stylizer::train::export::export(sup, unsup, ae, &args.output, encodings)?
+        }
+        _ => anyhow::bail!("give --sup, --unsup and --ae, or --from"),
+    };
+    if let Some(s) = &manifest.shared {
+        eprintln!("shared -> {} ({} bytes, {})", args.output.join(&s.file.file).display(), s.file.bytes, s.encoding);
+    }
     for m in &manifest.models {
         let steps: Vec<String> = m.stages.iter().map(|s| format!("{} {} steps", s.stage, s.steps)).collect();
-        eprintln!("{} -> {} ({})", m.setting, args.output.join(&m.file).display(), steps.join(", "));
+        eprintln!(
+            "{} -> {} ({} bytes, {}; {})",
+            m.setting,
+            args.output.join(&m.file).display(),
+            m.bytes.unwrap_or(0),
+            m.encoding.as_deref().unwrap_or("f16"),
+            steps.join(", ")
+        );
     }
     eprintln!("manifest -> {}", args.output.join("manifest.json").display());
     Ok(())

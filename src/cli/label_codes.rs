@@ -61,54 +61,7 @@ pub fn run(args: &LabelCodesArgs) -> anyhow::Result<()> {
         .context("the manifest lists no supervised model")?;
     eprintln!("{} training takes encoded; per label: {:?}", takes.len(), codes.takes);
     entry.label_codes = Some(codes);
-    super::write_text(&path, &(compact_number_arrays(&serde_json::to_string_pretty(&manifest)?) + "\n"))?;
+    super::write_text(&path, &manifest.to_json()?)?;
     eprintln!("label codes -> {}", path.display());
     Ok(())
-}
-
-/// Pretty JSON with every array of plain numbers on one line (the label codes: 16 lines, not
-/// 4,000); the same JSON value.
-fn compact_number_arrays(pretty: &str) -> String {
-    let mut out: Vec<String> = Vec::new();
-    // The lines of an array that may hold only numbers: its opening line, then its elements.
-    let mut held: Vec<&str> = Vec::new();
-    for line in pretty.lines() {
-        let t = line.trim();
-        if !held.is_empty() {
-            if t.trim_end_matches(',').parse::<f64>().is_ok() {
-                held.push(line);
-                continue;
-            }
-            if t.starts_with(']') && held.len() > 1 {
-                let items: Vec<&str> = held[1..].iter().map(|l| l.trim()).collect();
-                out.push(format!("{}{}{t}", held[0], items.join(" ")));
-                held.clear();
-                continue;
-            }
-            out.extend(held.drain(..).map(str::to_string));
-        }
-        if t.ends_with('[') {
-            held.push(line);
-        } else {
-            out.push(line.to_string());
-        }
-    }
-    out.extend(held.into_iter().map(str::to_string));
-    out.join("\n")
-}
-
-#[cfg(test)]
-mod tests {
-    use super::compact_number_arrays;
-
-    #[test]
-    fn number_arrays_go_on_one_line_and_the_value_is_kept() {
-        let value = serde_json::json!({"a": [1.5, -2, 3e-4], "b": [{"c": [1, 2]}, []], "d": [["x", 1]], "e": "["});
-        let pretty = serde_json::to_string_pretty(&value).unwrap();
-        let compact = compact_number_arrays(&pretty);
-        assert!(compact.contains("\"a\": [1.5, -2, 0.0003]"), "{compact}");
-        assert!(compact.contains("\"c\": [1, 2]"), "{compact}");
-        assert_eq!(serde_json::from_str::<serde_json::Value>(&compact).unwrap(), value);
-        assert!(compact.lines().count() < pretty.lines().count());
-    }
 }

@@ -188,39 +188,80 @@ pub enum TensorEncoding {
 }
 
 /// The encoding of a part's tensors: `large` for weight matrices and kernels of at least
-/// `min_len` values, f16 for everything else (biases, norms, small layers).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// `min_len` values, f16 for everything else (biases, norms, small layers); `overrides`: another
+/// encoding for the large tensors whose path starts with a prefix (the first match).
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct PartEncoding {
     pub large: TensorEncoding,
     pub min_len: usize,
+    pub overrides: Vec<(String, TensorEncoding)>,
 }
 
-impl PartEncoding {
-    /// Every tensor in f16 (the format-1 bundles' precision).
-    pub const F16: PartEncoding = PartEncoding { large: TensorEncoding::F16, min_len: usize::MAX };
+/// Large tensors: rank ≥ 2 and at least this many values.
+const MIN_QUANTISED: usize = 4096;
 
+impl TensorEncoding {
     /// `"f16"`, `"q8"` (int8, a scale per output channel), `"q4"`, `"q4g64"` (int4, a scale per
-    /// 64 weights of an output channel), ...: the CLI's spelling.
-    pub fn parse(spec: &str) -> Option<PartEncoding> {
+    /// 64 weights of an output channel), `"q6"`, ...: the CLI's spelling (4, 5, 6 or 8 bits).
+    pub fn parse(spec: &str) -> Option<TensorEncoding> {
         let spec = spec.trim();
         if spec == "f16" {
-            return Some(PartEncoding::F16);
+            return Some(TensorEncoding::F16);
         }
         let rest = spec.strip_prefix('q')?;
         let (bits, group) = match rest.split_once('g') {
             Some((b, g)) => (b.parse::<u8>().ok()?, g.parse::<usize>().ok().filter(|&g| g > 0)?),
             None => (rest.parse::<u8>().ok()?, 0),
         };
-        matches!(bits, 4 | 8).then_some(PartEncoding { large: TensorEncoding::Int { bits, group }, min_len: 4096 })
+        matches!(bits, 4 | 5 | 6 | 8).then_some(TensorEncoding::Int { bits, group })
     }
 
-    /// The CLI's spelling ([`PartEncoding::parse`]).
+    /// The CLI's spelling ([`TensorEncoding::parse`]).
     pub fn name(&self) -> String {
-        match self.large {
+        match *self {
             TensorEncoding::F16 => "f16".into(),
             TensorEncoding::Int { bits, group: 0 } => format!("q{bits}"),
             TensorEncoding::Int { bits, group } => format!("q{bits}g{group}"),
         }
+    }
+}
+
+impl PartEncoding {
+    /// Every tensor in f16 (the format-1 bundles' precision).
+    pub const F16: PartEncoding = PartEncoding { large: TensorEncoding::F16, min_len: usize::MAX, overrides: Vec::new() };
+
+    /// `ENCODING[,PREFIX=ENCODING...]`: the large tensors' encoding ([`TensorEncoding::parse`]),
+    /// then per path prefix another one, e.g. `q4g64,style_encoder=q8`.
+    pub fn parse(spec: &str) -> Option<PartEncoding> {
+        let mut items = spec.split(',');
+        let large = TensorEncoding::parse(items.next()?)?;
+        let overrides = items
+            .map(|item| {
+                let (prefix, enc) = item.split_once('=')?;
+                Some((prefix.trim().to_string(), TensorEncoding::parse(enc)?))
+            })
+            .collect::<Option<Vec<_>>>()?;
+        let quantised = large != TensorEncoding::F16 || overrides.iter().any(|(_, e)| *e != TensorEncoding::F16);
+        Some(PartEncoding { large, min_len: if quantised { MIN_QUANTISED } else { usize::MAX }, overrides })
+    }
+
+    /// The CLI's spelling ([`PartEncoding::parse`]).
+    pub fn name(&self) -> String {
+        let mut name = self.large.name();
+        for (prefix, enc) in &self.overrides {
+            name.push_str(&format!(",{prefix}={}", enc.name()));
+        }
+        name
+    }
+
+    /// The encoding of the tensor at `path` (a large one, or f16).
+    pub fn of(&self, path: &str, shape: &[usize]) -> TensorEncoding {
+        let len: usize = shape.iter().product();
+        if shape.len() < 2 || len < self.min_len {
+            return TensorEncoding::F16;
+        }
+        let path = path.strip_prefix("stylizer.").unwrap_or(path);
+        self.overrides.iter().find(|(p, _)| path.starts_with(p.as_str())).map_or(self.large, |(_, e)| *e)
     }
 }
 
@@ -286,8 +327,8 @@ impl ModuleVisitor for Collect {
     fn visit_float<const D: usize>(&mut self, param: &Param<Tensor<D>>) {
         let path = self.path.join(".");
         let data = param.val().into_data();
-        let shape = data.shape.to_vec();
-        match data.convert::<f32>().into_vec::<f32>() {
+        let shape = data.shape().to_vec();
+        match data.convert::<f32>().try_into_vec::<f32>() {
             Ok(values) => self.tensors.push((path, shape, values)),
             Err(e) => self.failed = Some(format!("{path}: {e:?}")),
         }
@@ -378,12 +419,13 @@ fn encode_tensor(shape: &[usize], values: &[f32], encoding: TensorEncoding, out:
             }
             out.extend_from_slice(&scales);
             match bits {
-                8 => out.extend(ints.iter().map(|&q| q as u8)),
-                _ => out.extend(ints.chunks(2).map(|p| {
+                4 => out.extend(ints.chunks(2).map(|p| {
                     let lo = (p[0] as u8) & 0x0f;
                     let hi = (p.get(1).copied().unwrap_or(0) as u8) & 0x0f;
                     lo | (hi << 4)
                 })),
+                // 5 to 8 bits: a byte each (gzip, as a server sends them, takes out what is unused).
+                _ => out.extend(ints.iter().map(|&q| q as u8)),
             }
         }
     }
@@ -400,8 +442,8 @@ fn encoded_len(shape: &[usize], encoding: TensorEncoding) -> Option<usize> {
             let groups = rows.len.div_ceil(group.max(1));
             let scales = rows.rows.checked_mul(groups)?.checked_mul(2)?;
             let ints = match bits {
-                8 => numel,
                 4 => numel.div_ceil(2),
+                5..=8 => numel,
                 _ => return None,
             };
             scales.checked_add(ints)
@@ -422,13 +464,12 @@ fn decode_tensor(t: &PartTensor, bytes: &[u8]) -> Result<Vec<f32>, String> {
             let (scales, ints) = bytes.split_at_checked(rows.rows * groups * 2).ok_or("truncated scales")?;
             let scale = |i: usize| f16::from_bits(u16::from_le_bytes([scales[2 * i], scales[2 * i + 1]])).to_f32();
             let int = |k: usize| -> f32 {
-                match bits {
-                    8 => ints[k] as i8 as f32,
-                    _ => {
-                        let b = ints[k / 2];
-                        let nibble = if k % 2 == 0 { b & 0x0f } else { b >> 4 };
-                        (((nibble << 4) as i8) >> 4) as f32
-                    }
+                if bits == 4 {
+                    let b = ints[k / 2];
+                    let nibble = if k % 2 == 0 { b & 0x0f } else { b >> 4 };
+                    (((nibble << 4) as i8) >> 4) as f32
+                } else {
+                    ints[k] as i8 as f32
                 }
             };
             let mut out = vec![0f32; numel];
@@ -445,24 +486,30 @@ fn decode_tensor(t: &PartTensor, bytes: &[u8]) -> Result<Vec<f32>, String> {
     }
 }
 
+/// Every float parameter of `module` by path (`autoencoder.encoder.down1.conv.weight`), with its
+/// shape and values in f32.
+pub fn float_params<M: Module>(module: &M) -> Result<Vec<(String, Vec<usize>, Vec<f32>)>, ModelError> {
+    let mut collect = Collect::default();
+    module.visit(&mut collect);
+    match collect.failed {
+        Some(message) => Err(ModelError::Weights(message)),
+        None => Ok(collect.tensors),
+    }
+}
+
 /// A part file of `module`: every float parameter by path, those of at least `encoding.min_len`
 /// values with rank ≥ 2 in `encoding.large`, the others in f16.
 pub fn save_part<M: Module>(
     kind: PartKind,
     config: &ModelConfig,
     module: M,
-    encoding: PartEncoding,
+    encoding: &PartEncoding,
 ) -> Result<Vec<u8>, ModelError> {
-    let mut collect = Collect::default();
-    module.visit(&mut collect);
-    if let Some(message) = collect.failed {
-        return Err(ModelError::Weights(message));
-    }
+    let params = float_params(&module)?;
     let mut payload = Vec::new();
-    let mut tensors = Vec::with_capacity(collect.tensors.len());
-    for (path, shape, values) in collect.tensors {
-        let large = shape.len() >= 2 && values.len() >= encoding.min_len;
-        let enc = if large { encoding.large } else { TensorEncoding::F16 };
+    let mut tensors = Vec::with_capacity(params.len());
+    for (path, shape, values) in params {
+        let enc = encoding.of(&path, &shape);
         let offset = payload.len();
         encode_tensor(&shape, &values, enc, &mut payload);
         tensors.push(PartTensor { path, shape, encoding: enc, offset, len: payload.len() - offset });
@@ -517,9 +564,9 @@ impl ModuleMapper for Apply<'_> {
             return param;
         };
         let shape = param.lazy_shape();
-        if shape.dims.as_slice() != t.shape.as_slice() {
+        if shape.as_slice() != t.shape.as_slice() {
             self.error =
-                Some(PartError::Tensor { path, message: format!("shape {:?}, the network's is {:?}", t.shape, shape.dims) });
+                Some(PartError::Tensor { path, message: format!("shape {:?}, the network's is {:?}", t.shape, shape.to_vec()) });
             return param;
         }
         let values = match decode_tensor(t, &self.payload[t.offset..t.offset + t.len]) {

@@ -1,16 +1,71 @@
 //! `assets/weights/manifest.json`: what the shipped weights are and how they were made.
 //!
-//! The folder holds `manifest.json`, `norm.json` (the training split's [`NormStats`]) and one f16
-//! bundle per stylizer setting (`supervised.bin`, `unsupervised.bin`; each holds its config, the
-//! autoencoder, the stylizer networks and the global motion regressor — see
-//! [`crate::model::weights::save_bundle`]). Written by `motion-stylizer export`, read by inference.
+//! The folder holds `manifest.json`, `norm.json` (the training split's [`NormStats`]) and the
+//! networks. **Format 2** (what `motion-stylizer export` writes): `shared.bin`, the networks both
+//! stylizers share (autoencoder and global motion regressor, [`Manifest::shared`]), and one file
+//! per stylizer setting holding only its stylizer (`supervised.bin`, `unsupervised.bin`), each a
+//! part file ([`crate::model::weights::save_part`]: every tensor by name in f16 or, for the large
+//! layers, integers with scales); every file listed with its size and FNV-1a 64 fingerprint, which
+//! the loaders check. **Format 1** (still read): no shared file, each setting's file a whole f16
+//! bundle ([`crate::model::weights::save_bundle`]).
+//!
+//! This is the one reader of the manifest: the npm package asks the engine which files to fetch
+//! ([`WeightFileList`]).
 //!
 //! [`NormStats`]: crate::features::NormStats
 
 use serde::{Deserialize, Serialize};
 
-/// Current manifest format.
-pub const FORMAT: u32 = 1;
+/// The manifest format `export` writes.
+pub const FORMAT: u32 = 2;
+/// The formats this build reads.
+pub const FORMATS: [u32; 2] = [1, 2];
+
+/// A weight file of format 2: name (relative to the manifest), size and fingerprint.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct FileRef {
+    pub file: String,
+    pub bytes: u64,
+    /// FNV-1a 64 of the file's bytes, 16 hex digits ([`crate::model::weights::fnv1a64`]).
+    pub fnv1a64: String,
+}
+
+/// The shared networks' file (format 2) and how its large layers are encoded.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SharedEntry {
+    #[serde(flatten)]
+    pub file: FileRef,
+    /// The networks it holds: `["autoencoder", "regressor"]`.
+    pub holds: Vec<String>,
+    /// `"f16"`, `"q8"`, `"q4g64"`, ... ([`crate::model::weights::PartEncoding::name`]).
+    pub encoding: String,
+}
+
+/// Which files a manifest names, for a loader (the npm package) to fetch: what
+/// [`Manifest::file_list`] gives.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct WeightFileList {
+    pub format: u32,
+    pub norm: ListedFile,
+    /// Format 2: the shared networks, needed by every setting.
+    pub shared: Option<ListedFile>,
+    /// Per setting, its file.
+    pub models: Vec<ListedModel>,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ListedFile {
+    pub file: String,
+    /// Its size (0 where the manifest does not say, format 1).
+    pub bytes: u64,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ListedModel {
+    pub setting: String,
+    pub file: String,
+    pub bytes: u64,
+}
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Manifest {
@@ -21,13 +76,44 @@ pub struct Manifest {
     pub styles: Vec<String>,
     /// File name of the normalisation statistics, relative to the manifest.
     pub norm: String,
+    /// Format 2: the statistics file's size and FNV-1a 64 (so that the manifest's own bytes
+    /// identify every file of the folder).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub norm_bytes: Option<u64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub norm_fnv1a64: Option<String>,
     /// Training window, frames.
     pub window: usize,
     /// The held-out split file the training used (repository path) and its held-out take count.
     pub split: String,
     pub heldout_takes: usize,
+    /// Format 2: the networks every setting shares (required there, absent in format 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shared: Option<SharedEntry>,
     /// Per setting: `"supervised"`, `"unsupervised"`.
     pub models: Vec<ModelEntry>,
+}
+
+impl Manifest {
+    /// The manifest as `manifest.json` holds it: pretty JSON with every array of plain numbers on
+    /// one line (the label codes: 16 lines, not 4,000), ending in a newline.
+    pub fn to_json(&self) -> Result<String, serde_json::Error> {
+        Ok(compact_number_arrays(&serde_json::to_string_pretty(self)?) + "\n")
+    }
+
+    /// The files to fetch: statistics, shared networks (format 2), one file per setting.
+    pub fn file_list(&self) -> WeightFileList {
+        WeightFileList {
+            format: self.format,
+            norm: ListedFile { file: self.norm.clone(), bytes: self.norm_bytes.unwrap_or(0) },
+            shared: self.shared.as_ref().map(|s| ListedFile { file: s.file.file.clone(), bytes: s.file.bytes }),
+            models: self
+                .models
+                .iter()
+                .map(|m| ListedModel { setting: m.setting.clone(), file: m.file.clone(), bytes: m.bytes.unwrap_or(0) })
+                .collect(),
+        }
+    }
 }
 
 /// One shipped bundle and its provenance.
@@ -37,6 +123,13 @@ pub struct ModelEntry {
     pub setting: String,
     /// Bundle file name, relative to the manifest.
     pub file: String,
+    /// Format 2: the file's size and fingerprint, and how its large layers are encoded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bytes: Option<u64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fnv1a64: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub encoding: Option<String>,
     /// Width factor relative to the paper's sizes.
     pub width: f64,
     /// Training stages that produced it, in order (autoencoder first, then the stylizer).
@@ -79,4 +172,51 @@ pub struct StageRecord {
     /// Final training losses (moving averages) by name, and held-out metrics by name.
     pub final_losses: std::collections::BTreeMap<String, f64>,
     pub heldout: std::collections::BTreeMap<String, f64>,
+}
+
+/// Pretty JSON with every array of plain numbers on one line (the label codes: 16 lines, not
+/// 4,000); the same JSON value.
+pub fn compact_number_arrays(pretty: &str) -> String {
+    let mut out: Vec<String> = Vec::new();
+    // The lines of an array that may hold only numbers: its opening line, then its elements.
+    let mut held: Vec<&str> = Vec::new();
+    for line in pretty.lines() {
+        let t = line.trim();
+        if !held.is_empty() {
+            if t.trim_end_matches(',').parse::<f64>().is_ok() {
+                held.push(line);
+                continue;
+            }
+            if t.starts_with(']') && held.len() > 1 {
+                let items: Vec<&str> = held[1..].iter().map(|l| l.trim()).collect();
+                out.push(format!("{}{}{t}", held[0], items.join(" ")));
+                held.clear();
+                continue;
+            }
+            out.extend(held.drain(..).map(str::to_string));
+        }
+        if t.ends_with('[') {
+            held.push(line);
+        } else {
+            out.push(line.to_string());
+        }
+    }
+    out.extend(held.into_iter().map(str::to_string));
+    out.join("\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::compact_number_arrays;
+
+    #[test]
+    fn number_arrays_go_on_one_line_and_the_value_is_kept() {
+        let value = serde_json::json!({"a": [1.5, -2, 3e-4], "b": [{"c": [1, 2]}, []], "d": [["x", 1]], "e": "["});
+        let pretty = serde_json::to_string_pretty(&value).unwrap();
+        let compact = compact_number_arrays(&pretty);
+        assert!(compact.contains("\"a\": [1.5, -2, 0.0003]"), "{compact}");
+        assert!(compact.contains("\"c\": [1, 2]"), "{compact}");
+        assert_eq!(serde_json::from_str::<serde_json::Value>(&compact).unwrap(), value);
+        assert!(compact.lines().count() < pretty.lines().count());
+    }
 }

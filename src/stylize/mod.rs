@@ -70,4 +70,4 @@ pub use source::{
     DEFAULT_STRENGTH, DEFAULT_TEMPERATURE, MAX_MIX_DEPTH, MAX_SAMPLES, MAX_STRENGTH, MAX_TEMPERATURE, Request,
     StyleSource,
 };
-pub use weights::{Setting, Weights};
+pub use weights::{Setting, Weights, WeightFiles};

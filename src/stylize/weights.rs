@@ -7,8 +7,8 @@ use super::StylizeError;
 use super::manifest::{self, Manifest};
 use crate::dataset::Style;
 use crate::features::NormStats;
-use crate::model::weights::{bundle_config, load_bundle};
-use crate::model::{Model, ModelError};
+use crate::model::weights::{SharedNets, bundle_config, fnv1a64, load_bundle, load_shared, load_stylizer, part_header};
+use crate::model::{Model, ModelConfig, ModelError, MotionModel};
 
 /// Which of the two stylizers (paper §3.4): trained with style labels or without.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -50,12 +50,28 @@ impl core::fmt::Display for Setting {
 /// an allocation that would abort.
 const MAX_WIDTH: usize = 8192;
 
+/// The bytes of a weights folder's files, for [`Weights::from_files`]: `manifest.json`, the
+/// statistics, and (format 2) the shared networks, with the file of each setting to load now.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct WeightFiles<'a> {
+    pub manifest: &'a [u8],
+    pub norm: &'a [u8],
+    /// Format 2's shared networks (`shared.bin`); `None` for format 1.
+    pub shared: Option<&'a [u8]>,
+    pub supervised: Option<&'a [u8]>,
+    pub unsupervised: Option<&'a [u8]>,
+}
+
 /// The trained models and what goes with them: the manifest, the normalisation statistics and
-/// one [`Model`] per available setting.
+/// one [`Model`] per loaded setting (format 2: both on the same shared networks, and a setting
+/// can be added later, [`Weights::add_setting`]).
 #[derive(Debug)]
 pub struct Weights {
     manifest: Manifest,
     norm: NormStats,
+    /// Format 2: the shared networks (the autoencoder and regressor every setting's model uses).
+    shared: Option<(ModelConfig, SharedNets)>,
+    device: Device,
     supervised: Option<Model>,
     unsupervised: Option<Model>,
     /// The supervised model's label centres ([`manifest::LabelCodes`]), `num_styles × style_dim`
@@ -68,18 +84,16 @@ fn bad(message: impl Into<String>) -> StylizeError {
 }
 
 impl Weights {
-    /// The weights from the bytes of the folder's files (`manifest.json`, `norm.json`,
-    /// `supervised.bin`, `unsupervised.bin`), on the CPU (`flex`) device. At least one bundle is
-    /// needed. Errors ([`StylizeError::BadWeights`]): malformed JSON, a manifest of another format
-    /// or without labels, statistics of the wrong size, bundles that are not ours, of the other
-    /// setting, or whose label count disagrees with the manifest.
+    /// The weights from the bytes of a format-1 folder's files (`manifest.json`, `norm.json`,
+    /// `supervised.bin`, `unsupervised.bin`), on the CPU (`flex`) device: [`Weights::from_files`]
+    /// without a shared file.
     pub fn from_bytes(
         manifest_json: &[u8],
         norm_json: &[u8],
         supervised: Option<&[u8]>,
         unsupervised: Option<&[u8]>,
     ) -> Result<Weights, StylizeError> {
-        Self::from_bytes_on(&Device::flex(), manifest_json, norm_json, supervised, unsupervised)
+        Self::from_files(WeightFiles { manifest: manifest_json, norm: norm_json, shared: None, supervised, unsupervised })
     }
 
     /// [`Weights::from_bytes`] on a given device.
@@ -90,50 +104,104 @@ impl Weights {
         supervised: Option<&[u8]>,
         unsupervised: Option<&[u8]>,
     ) -> Result<Weights, StylizeError> {
-        let manifest: Manifest =
-            serde_json::from_slice(manifest_json).map_err(|e| bad(format!("manifest.json: {e}")))?;
-        if manifest.format != manifest::FORMAT {
-            return Err(bad(format!(
-                "manifest format {} (this build reads format {})",
-                manifest.format,
-                manifest::FORMAT
-            )));
+        let files = WeightFiles { manifest: manifest_json, norm: norm_json, shared: None, supervised, unsupervised };
+        Self::from_files_on(device, files)
+    }
+
+    /// The weights from the bytes of the folder's files, on the CPU (`flex`) device. At least one
+    /// setting's file is needed (format 2: and the shared one). Errors
+    /// ([`StylizeError::BadWeights`]): malformed JSON, a manifest of another format or without
+    /// labels, statistics of the wrong size, files that are not ours, of the other setting, not
+    /// the size or fingerprint the manifest lists, or whose label count disagrees with it.
+    pub fn from_files(files: WeightFiles<'_>) -> Result<Weights, StylizeError> {
+        Self::from_files_on(&Device::flex(), files)
+    }
+
+    /// [`Weights::from_files`] on a given device.
+    pub fn from_files_on(device: &Device, files: WeightFiles<'_>) -> Result<Weights, StylizeError> {
+        let manifest = parse_manifest(files.manifest)?;
+        check_file(&manifest.norm, manifest.norm_bytes, manifest.norm_fnv1a64.as_deref(), files.norm)?;
+        let norm: NormStats = serde_json::from_slice(files.norm).map_err(|e| bad(format!("norm.json: {e}")))?;
+        if files.supervised.is_none() && files.unsupervised.is_none() {
+            return Err(bad("no model: neither a supervised nor an unsupervised file"));
         }
-        if manifest.styles.is_empty() || manifest.styles.len() > usize::from(u8::MAX) + 1 {
-            return Err(bad(format!("the manifest lists {} style labels", manifest.styles.len())));
+        let shared = match (&manifest.shared, files.shared) {
+            (None, None) => None,
+            (None, Some(_)) => return Err(bad("a shared file was given, but the manifest (format 1) lists none")),
+            (Some(entry), None) => {
+                return Err(bad(format!("the shared networks' file {} is needed (manifest format 2)", entry.file.file)));
+            }
+            (Some(entry), Some(bytes)) => {
+                check_file(&entry.file.file, Some(entry.file.bytes), Some(&entry.file.fnv1a64), bytes)?;
+                let (config, nets) =
+                    load_shared(bytes, device).map_err(|e| bad(format!("shared file {}: {e}", entry.file.file)))?;
+                Some((config, nets))
+            }
+        };
+        let mut weights =
+            Weights { manifest, norm, shared, device: device.clone(), supervised: None, unsupervised: None, label_codes: None };
+        for (setting, bytes) in [(Setting::Supervised, files.supervised), (Setting::Unsupervised, files.unsupervised)] {
+            if let Some(bytes) = bytes {
+                weights.add_setting(setting, bytes)?;
+            }
         }
-        let norm: NormStats = serde_json::from_slice(norm_json).map_err(|e| bad(format!("norm.json: {e}")))?;
-        if supervised.is_none() && unsupervised.is_none() {
-            return Err(bad("no model: neither a supervised nor an unsupervised bundle"));
-        }
-        let load = |bytes: Option<&[u8]>, setting: Setting| -> Result<Option<Model>, StylizeError> {
-            let Some(bytes) = bytes else { return Ok(None) };
-            let context = |e: StylizeError| match e {
-                StylizeError::BadWeights(m) => bad(format!("{setting} bundle: {m}")),
-                other => other,
+        Ok(weights)
+    }
+
+    /// Loads the file of `setting` (the one the manifest lists for it) next to the models already
+    /// loaded: the unsupervised model fetched only when it is first used. Format 2 builds it on
+    /// the shared networks already loaded; format 1 files are whole bundles. Errors as
+    /// [`Weights::from_files`]; on an error nothing changes.
+    pub fn add_setting(&mut self, setting: Setting, bytes: &[u8]) -> Result<(), StylizeError> {
+        let entry = self
+            .manifest
+            .models
+            .iter()
+            .find(|m| Setting::from_name(&m.setting) == Some(setting))
+            .ok_or(StylizeError::SettingUnavailable { setting })?;
+        let context = |e: StylizeError| match e {
+            StylizeError::BadWeights(m) => bad(format!("{setting} file {}: {m}", entry.file)),
+            other => other,
+        };
+        let labels = self.manifest.styles.len();
+        let model = match &self.shared {
+            None => {
+                check_config(&bundle_header(bytes).map_err(context)?, setting, labels).map_err(context)?;
+                // The bundle's f16 tensors are read on flex (which casts them to f32) and the f32
+                // networks then moved to the device: burn-ndarray has no f16 tensors and panics on them.
+                let (config, model) = load_bundle(bytes, &Device::flex()).map_err(|e| context(e.into()))?;
+                Model::new(config, model.to_device(&self.device))
+            }
+            Some((shared_config, shared)) => {
+                check_file(&entry.file, entry.bytes, entry.fnv1a64.as_deref(), bytes).map_err(context)?;
+                let (header, _) = part_header(bytes).map_err(|e| context(bad(e.to_string())))?;
+                check_config(&header.config, setting, labels).map_err(context)?;
+                check_shared_fits(shared_config, &header.config).map_err(context)?;
+                let (config, stylizer) =
+                    load_stylizer(bytes, &self.device).map_err(|e| context(bad(e.to_string())))?;
+                let nets = MotionModel {
+                    autoencoder: shared.autoencoder.clone(),
+                    stylizer,
+                    regressor: shared.regressor.clone(),
+                };
+                Model::new(config, nets)
+            }
+        };
+        if setting == Setting::Supervised {
+            self.label_codes = match label_codes_of(&self.manifest) {
+                Some(codes) => Some(check_label_codes(codes, &model)?),
+                None => None,
             };
-            check_bundle_header(bytes, setting, manifest.styles.len()).map_err(context)?;
-            // The bundle's f16 tensors are read on flex (which casts them to f32) and the f32
-            // networks then moved to `device`: burn-ndarray has no f16 tensors and panics on them.
-            let (config, model) = load_bundle(bytes, &Device::flex()).map_err(|e| context(e.into()))?;
-            Ok(Some(Model::new(config, model.to_device(device))))
-        };
-        let supervised = load(supervised, Setting::Supervised)?;
-        let label_codes = match (&supervised, label_codes_of(&manifest)) {
-            (Some(model), Some(codes)) => Some(check_label_codes(codes, model)?),
-            _ => None,
-        };
-        Ok(Weights {
-            supervised,
-            unsupervised: load(unsupervised, Setting::Unsupervised)?,
-            manifest,
-            norm,
-            label_codes,
-        })
+        }
+        match setting {
+            Setting::Supervised => self.supervised = Some(model),
+            Setting::Unsupervised => self.unsupervised = Some(model),
+        }
+        Ok(())
     }
 
     /// Reads the weights folder `dir` (native builds only): `manifest.json`, the statistics file
-    /// it names, and the bundle of each setting it lists.
+    /// it names, the shared networks' file (format 2), and the file of each setting it lists.
     #[cfg(not(target_arch = "wasm32"))]
     pub fn load_dir(dir: impl AsRef<std::path::Path>) -> Result<Weights, StylizeError> {
         let dir = dir.as_ref();
@@ -143,11 +211,12 @@ impl Weights {
                 .map_err(|e| StylizeError::Read { path: path.display().to_string(), message: e.to_string() })
         };
         let manifest_json = read("manifest.json")?;
-        let manifest: Manifest =
-            serde_json::from_slice(&manifest_json).map_err(|e| bad(format!("manifest.json: {e}")))?;
-        let norm_json = read(&manifest.norm)?;
+        let manifest = parse_manifest(&manifest_json)?;
+        let list = manifest.file_list();
+        let norm_json = read(&list.norm.file)?;
+        let shared = list.shared.as_ref().map(|s| read(&s.file)).transpose()?;
         let (mut supervised, mut unsupervised) = (None, None);
-        for entry in &manifest.models {
+        for entry in &list.models {
             let slot = match Setting::from_name(&entry.setting) {
                 Some(Setting::Supervised) => &mut supervised,
                 Some(Setting::Unsupervised) => &mut unsupervised,
@@ -155,7 +224,19 @@ impl Weights {
             };
             *slot = Some(read(&entry.file)?);
         }
-        Self::from_bytes(&manifest_json, &norm_json, supervised.as_deref(), unsupervised.as_deref())
+        Self::from_files(WeightFiles {
+            manifest: &manifest_json,
+            norm: &norm_json,
+            shared: shared.as_deref(),
+            supervised: supervised.as_deref(),
+            unsupervised: unsupervised.as_deref(),
+        })
+    }
+
+    /// The settings the manifest lists (loaded or not).
+    pub fn listed(&self) -> Vec<Setting> {
+        let listed: Vec<Setting> = self.manifest.models.iter().filter_map(|m| Setting::from_name(&m.setting)).collect();
+        [Setting::Supervised, Setting::Unsupervised].into_iter().filter(|s| listed.contains(s)).collect()
     }
 
     pub fn manifest(&self) -> &Manifest {
@@ -238,13 +319,66 @@ fn check_label_codes(codes: &manifest::LabelCodes, model: &Model) -> Result<Vec<
     Ok(flat)
 }
 
-/// Checks a bundle's config before any network is built from it: the setting and the label count
-/// match, and no width is absurd (which would make the loader try to allocate it).
-fn check_bundle_header(bytes: &[u8], setting: Setting, labels: usize) -> Result<(), StylizeError> {
-    let (config, _) = bundle_config(bytes).map_err(|e| match e {
+/// A manifest this build reads: JSON of a known format with 1–256 labels.
+pub fn parse_manifest(json: &[u8]) -> Result<Manifest, StylizeError> {
+    let manifest: Manifest = serde_json::from_slice(json).map_err(|e| bad(format!("manifest.json: {e}")))?;
+    if !manifest::FORMATS.contains(&manifest.format) {
+        return Err(bad(format!(
+            "manifest format {} (this build reads formats {:?})",
+            manifest.format,
+            manifest::FORMATS
+        )));
+    }
+    if manifest.styles.is_empty() || manifest.styles.len() > usize::from(u8::MAX) + 1 {
+        return Err(bad(format!("the manifest lists {} style labels", manifest.styles.len())));
+    }
+    if manifest.format >= 2 {
+        if manifest.shared.is_none() {
+            return Err(bad("a format-2 manifest needs its shared networks' file (\"shared\")"));
+        }
+        if let Some(m) = manifest.models.iter().find(|m| m.bytes.is_none() || m.fnv1a64.is_none()) {
+            return Err(bad(format!("the {} entry lacks its file's size or fingerprint", m.setting)));
+        }
+    }
+    Ok(manifest)
+}
+
+/// A file's bytes against the manifest's size and fingerprint (where it lists them).
+fn check_file(name: &str, bytes: Option<u64>, fingerprint: Option<&str>, data: &[u8]) -> Result<(), StylizeError> {
+    if let Some(expected) = bytes
+        && expected != data.len() as u64
+    {
+        return Err(bad(format!("{name}: {} bytes, the manifest lists {expected}", data.len())));
+    }
+    if let Some(expected) = fingerprint
+        && !expected.eq_ignore_ascii_case(&fnv1a64(data))
+    {
+        return Err(bad(format!("{name}: its bytes are not the ones the manifest lists (fingerprint {expected})")));
+    }
+    Ok(())
+}
+
+/// A format-1 bundle's config.
+fn bundle_header(bytes: &[u8]) -> Result<ModelConfig, StylizeError> {
+    bundle_config(bytes).map(|(config, _)| config).map_err(|e| match e {
         ModelError::Weights(m) => bad(m),
         other => bad(other.to_string()),
-    })?;
+    })
+}
+
+/// The shared networks were built for the stylizer's autoencoder and regressor sizes.
+fn check_shared_fits(shared: &ModelConfig, stylizer: &ModelConfig) -> Result<(), StylizeError> {
+    let fits = shared.ae_hidden == stylizer.ae_hidden
+        && shared.ae_mid == stylizer.ae_mid
+        && shared.latent_dim == stylizer.latent_dim
+        && shared.vae == stylizer.vae
+        && shared.regressor_hidden == stylizer.regressor_hidden;
+    if fits { Ok(()) } else { Err(bad("its autoencoder or regressor sizes differ from the shared networks'")) }
+}
+
+/// Checks a model's config before any network is built from it: the setting and the label count
+/// match, and no width is absurd (which would make the loader try to allocate it).
+fn check_config(config: &ModelConfig, setting: Setting, labels: usize) -> Result<(), StylizeError> {
     if config.supervised != (setting == Setting::Supervised) {
         let other = if config.supervised { Setting::Supervised } else { Setting::Unsupervised };
         return Err(bad(format!("it holds the {other} model")));

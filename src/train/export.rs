@@ -1,9 +1,13 @@
 //! `motion-stylizer export`: the shipped weights folder from three finished runs (the layout of
 //! [`crate::stylize::manifest`]).
 //!
-//! - `supervised.bin`, `unsupervised.bin`: [`save_bundle`] (f16) of each stylizer run's latest
-//!   checkpoint with the autoencoder and regressor it was trained on (the copy in its `ae.bin`,
-//!   so a bundle is always consistent even if the `ae` run went on training afterwards).
+//! - `shared.bin`: the autoencoder and regressor both stylizers were trained on (the copy in each
+//!   stylizer run's `ae.bin`, so the weights are consistent even if the `ae` run went on training
+//!   afterwards; the two copies must be the same checkpoint, or the supervised run's is taken with
+//!   a warning), a part file ([`save_part`]).
+//! - `supervised.bin`, `unsupervised.bin`: each stylizer run's latest checkpoint, its stylizer
+//!   networks only.
+//! - Large layers in the [`Encodings`] asked for (default f16; `--shared q8 --stylizer q4g64`...).
 //! - `norm.json`: the normalisation statistics (identical in all three runs, or an error).
 //! - `manifest.json`: provenance of each bundle, one [`StageRecord`] per stage. The `ae` record
 //!   describes the `--ae` run up to the step the stylizer took its autoencoder from: command
@@ -23,9 +27,25 @@ use super::rundir::load_module;
 use super::rundir::{self, Checkpoint, CsvTable, RunConfig, RunLog};
 use crate::dataset::{STYLES, Split};
 use crate::features::NormStats;
-use crate::model::weights::save_bundle;
-use crate::model::{MotionModel, Stylizer};
-use crate::stylize::manifest::{FORMAT, Manifest, ModelEntry, StageRecord};
+use crate::model::weights::{PartEncoding, PartKind, SharedNets, fnv1a64, float_params, save_part};
+use crate::model::{ModelConfig, MotionModel, Stylizer};
+use crate::stylize::manifest::{FORMAT, FileRef, Manifest, ModelEntry, SharedEntry, StageRecord};
+use crate::stylize::{Setting, Weights};
+
+/// How the large layers of each file are stored.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Encodings {
+    /// `shared.bin` (autoencoder, regressor).
+    pub shared: PartEncoding,
+    /// Each stylizer's file.
+    pub stylizer: PartEncoding,
+}
+
+impl Default for Encodings {
+    fn default() -> Self {
+        Encodings { shared: PartEncoding::F16, stylizer: PartEncoding::F16 }
+    }
+}
 
 /// Licence of the exported weights.
 pub const LICENCE: &str = "CC BY-NC 4.0 (trained on the Bandai-Namco Research Motion dataset); code MIT OR Apache-2.0";
@@ -34,7 +54,7 @@ pub const LICENCE: &str = "CC BY-NC 4.0 (trained on the Bandai-Namco Research Mo
 const FINAL_ROWS: usize = 100;
 
 /// Writes the weights folder `out` from the runs; returns the manifest written.
-pub fn export(sup: &Path, unsup: &Path, ae: &Path, out: &Path) -> anyhow::Result<Manifest> {
+pub fn export(sup: &Path, unsup: &Path, ae: &Path, out: &Path, encodings: Encodings) -> anyhow::Result<Manifest> {
     let ae_config: RunConfig = rundir::read_json(&ae.join(rundir::CONFIG))
         .with_context(|| format!("--ae {}: not a training run folder", ae.display()))?;
     ensure!(ae_config.stage == "ae", "--ae {}: a {} run, not an `ae` run", ae.display(), ae_config.stage);
@@ -42,6 +62,7 @@ pub fn export(sup: &Path, unsup: &Path, ae: &Path, out: &Path) -> anyhow::Result
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
 
     let mut models = Vec::new();
+    let mut nets = Vec::new();
     let mut window = None;
     let mut split = None;
     let mut ae_weights: Option<Vec<u8>> = None;
@@ -88,16 +109,19 @@ pub fn export(sup: &Path, unsup: &Path, ae: &Path, out: &Path) -> anyhow::Result
         }
 
         let device = Device::flex();
-        let nets = load_module(AeNets::new(&config.model, &device), &ae_ckpt.weights)?;
+        let ae_nets = load_module(AeNets::new(&config.model, &device), &ae_ckpt.weights)?;
         let stylizer = load_module(Stylizer::new(&config.model, &device), &ckpt.weights)?;
-        let model = MotionModel { autoencoder: nets.autoencoder, stylizer, regressor: nets.regressor };
-        let file = format!("{setting}.bin");
-        let bytes = save_bundle(&config.model, model)?;
-        rundir::write_atomic(&out.join(&file), &bytes)?;
+        nets.push((
+            config.model.clone(),
+            MotionModel { autoencoder: ae_nets.autoencoder, stylizer, regressor: ae_nets.regressor },
+        ));
 
         models.push(ModelEntry {
             setting: setting.into(),
-            file,
+            file: format!("{setting}.bin"),
+            bytes: None,
+            fnv1a64: None,
+            encoding: None,
             width: config.settings.width,
             stages: vec![stage_record(ae, &ae_config, ae_ckpt.meta.step)?, stage_record(dir, &config, ckpt.meta.step)?],
             // New networks: `motion-stylizer label-codes` computes them for these.
@@ -117,10 +141,78 @@ pub fn export(sup: &Path, unsup: &Path, ae: &Path, out: &Path) -> anyhow::Result
         window: window.expect("two runs"),
         split,
         heldout_takes,
+        norm_bytes: None,
+        norm_fnv1a64: None,
+        shared: None,
         models,
     };
     rundir::write_json(&out.join(rundir::NORM), &norm)?;
-    rundir::write_json(&out.join("manifest.json"), &manifest)?;
+    write_folder(out, manifest, nets, encodings)
+}
+
+/// `motion-stylizer export --from DIR`: an existing weights folder (format 1 or 2) written again
+/// in format 2 with `encodings`: the same provenance and label codes, the statistics file copied
+/// byte for byte, one shared file for the networks both settings carry (they must be the same
+/// numbers; if not, the supervised model's are shared, with a warning).
+pub fn repack(from: &Path, out: &Path, encodings: Encodings) -> anyhow::Result<Manifest> {
+    let weights = Weights::load_dir(from).with_context(|| format!("cannot load the weights at {}", from.display()))?;
+    let mut manifest = weights.manifest().clone();
+    let norm = std::fs::read(from.join(&manifest.norm)).with_context(|| format!("cannot read {}", manifest.norm))?;
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    rundir::write_atomic(&out.join(&manifest.norm), &norm)?;
+    let mut nets = Vec::new();
+    for entry in &manifest.models {
+        let setting = Setting::from_name(&entry.setting).with_context(|| format!("unknown setting {:?}", entry.setting))?;
+        let model = weights.model(setting)?;
+        nets.push((model.config.clone(), model.nets.clone()));
+    }
+    manifest.format = FORMAT;
+    write_folder(out, manifest, nets, encodings)
+}
+
+/// Writes `shared.bin` (from the first model), one stylizer file per entry of `manifest.models`
+/// (in the same order as `nets`), then the manifest with every file's size and fingerprint.
+fn write_folder(
+    out: &Path,
+    mut manifest: Manifest,
+    nets: Vec<(ModelConfig, MotionModel)>,
+    encodings: Encodings,
+) -> anyhow::Result<Manifest> {
+    ensure!(!nets.is_empty() && nets.len() == manifest.models.len(), "one network set per manifest entry");
+    let (first_config, first) = &nets[0];
+    let shared = SharedNets { autoencoder: first.autoencoder.clone(), regressor: first.regressor.clone() };
+    let reference = float_params(&shared)?;
+    for ((_, other), entry) in nets.iter().zip(&manifest.models).skip(1) {
+        let theirs = float_params(&SharedNets { autoencoder: other.autoencoder.clone(), regressor: other.regressor.clone() })?;
+        if theirs != reference {
+            eprintln!(
+                "warning: the {} model's autoencoder/regressor differ from the {}'s; the {}'s are shared",
+                entry.setting, manifest.models[0].setting, manifest.models[0].setting
+            );
+        }
+    }
+    let file_ref = |file: &str, bytes: &[u8]| FileRef { file: file.into(), bytes: bytes.len() as u64, fnv1a64: fnv1a64(bytes) };
+    let norm = std::fs::read(out.join(&manifest.norm)).with_context(|| format!("cannot read {}", manifest.norm))?;
+    manifest.norm_bytes = Some(norm.len() as u64);
+    manifest.norm_fnv1a64 = Some(fnv1a64(&norm));
+    let bytes = save_part(PartKind::Shared, first_config, shared, &encodings.shared)?;
+    rundir::write_atomic(&out.join("shared.bin"), &bytes)?;
+    manifest.shared = Some(SharedEntry {
+        file: file_ref("shared.bin", &bytes),
+        holds: vec!["autoencoder".into(), "regressor".into()],
+        encoding: encodings.shared.name(),
+    });
+    for ((config, model), entry) in nets.into_iter().zip(manifest.models.iter_mut()) {
+        let file = format!("{}.bin", entry.setting);
+        let bytes = save_part(PartKind::Stylizer, &config, model.stylizer, &encodings.stylizer)?;
+        rundir::write_atomic(&out.join(&file), &bytes)?;
+        let r = file_ref(&file, &bytes);
+        entry.file = r.file;
+        entry.bytes = Some(r.bytes);
+        entry.fnv1a64 = Some(r.fnv1a64);
+        entry.encoding = Some(encodings.stylizer.name());
+    }
+    rundir::write_atomic(&out.join("manifest.json"), manifest.to_json()?.as_bytes())?;
     Ok(manifest)
 }
 

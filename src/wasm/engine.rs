@@ -3,14 +3,25 @@
 use burn::prelude::Device;
 use wasm_bindgen::prelude::*;
 
-use super::error::{js_error, stylize_error};
+use super::error::{bad_request, js_error, stylize_error};
 use super::motion::ImportedMotion;
 use super::options::StylizeOptions;
 use super::panic;
 use super::style::StyleSpec;
 use super::stylized::StylizedMotion;
 use crate::gltf::GltfOptions;
-use crate::stylize::{self, Request, Setting, Weights};
+use crate::stylize::weights::parse_manifest;
+use crate::stylize::{self, Request, Setting, WeightFiles, Weights};
+
+/// The files a weights folder's `manifest.json` names, for the JS wrapper to fetch (the engine is
+/// the one reader of the manifest): JSON `{format, norm, shared: {file, bytes} | null, models:
+/// [{setting, file, bytes}]}`. Errors: `BAD_WEIGHTS`.
+#[wasm_bindgen(js_name = weightFileList)]
+pub fn weight_file_list(manifest: &[u8]) -> Result<String, JsValue> {
+    panic::install();
+    let manifest = parse_manifest(manifest).map_err(|e| stylize_error(&e))?;
+    serde_json::to_string(&manifest.file_list()).map_err(|e| js_error("BAD_WEIGHTS", &e.to_string()))
+}
 
 /// The trained models, ready to stylize.
 #[wasm_bindgen]
@@ -33,22 +44,43 @@ fn device(backend: &str) -> Result<(Device, &'static str), JsValue> {
 
 #[wasm_bindgen]
 impl Engine {
-    /// Loads the weight files' bytes (`manifest.json`, `norm.json`, and at least one of
-    /// `supervised.bin`, `unsupervised.bin`) on `backend` (`"cpu"`). Errors: `BAD_WEIGHTS`,
-    /// `BACKEND_UNAVAILABLE`.
+    /// Loads the weight files' bytes (`manifest.json`, `norm.json`, format 2's `shared.bin`, and
+    /// at least one of `supervised.bin`, `unsupervised.bin`) on `backend` (`"cpu"`). Errors:
+    /// `BAD_WEIGHTS`, `BACKEND_UNAVAILABLE`.
     #[wasm_bindgen(constructor)]
     pub fn new(
         manifest: &[u8],
         norm: &[u8],
+        shared: Option<Vec<u8>>,
         supervised: Option<Vec<u8>>,
         unsupervised: Option<Vec<u8>>,
         backend: &str,
     ) -> Result<Engine, JsValue> {
         panic::install();
         let (device, backend) = device(backend)?;
-        let weights = Weights::from_bytes_on(&device, manifest, norm, supervised.as_deref(), unsupervised.as_deref())
-            .map_err(|e| stylize_error(&e))?;
+        let files = WeightFiles {
+            manifest,
+            norm,
+            shared: shared.as_deref(),
+            supervised: supervised.as_deref(),
+            unsupervised: unsupervised.as_deref(),
+        };
+        let weights = Weights::from_files_on(&device, files).map_err(|e| stylize_error(&e))?;
         Ok(Engine { weights, backend })
+    }
+
+    /// Adds the model of `setting` (`"supervised"`, `"unsupervised"`) from its file's bytes, next
+    /// to those loaded (on the shared networks, format 2). Errors: `BAD_REQUEST` (another name),
+    /// `SETTING_UNAVAILABLE` (the manifest lists no such model), `BAD_WEIGHTS`.
+    #[wasm_bindgen(js_name = addSetting)]
+    pub fn add_setting(&mut self, setting: &str, bytes: &[u8]) -> Result<(), JsValue> {
+        let setting = Setting::from_name(setting).ok_or_else(|| bad_request(&format!("unknown setting {setting:?}")))?;
+        self.weights.add_setting(setting, bytes).map_err(|e| stylize_error(&e))
+    }
+
+    /// The settings the manifest lists, loaded or not.
+    pub fn listed(&self) -> Vec<String> {
+        self.weights.listed().iter().map(|s| s.as_str().to_string()).collect()
     }
 
     /// The style labels, in the model's order.

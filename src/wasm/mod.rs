@@ -25,7 +25,7 @@ pub mod panic;
 mod style;
 mod stylized;
 
-pub use engine::Engine;
+pub use engine::{Engine, weight_file_list};
 pub use motion::ImportedMotion;
 pub use style::StyleSpec;
 pub use stylized::{StylizedMotion, ThreePose};

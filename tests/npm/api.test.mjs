@@ -24,6 +24,7 @@ async function rejects(f, code) {
 
 test('load: bundled weights, both models, the CPU backend', () => {
   assert.deepEqual(s.settings(), ['supervised', 'unsupervised']);
+  assert.deepEqual(s.loadedSettings(), ['supervised'], 'the unsupervised model is read when first used');
   assert.equal(s.styles().length, 16);
   assert.ok(s.styles().includes('old'));
   assert.equal(s.backend, 'cpu');
@@ -196,35 +197,45 @@ function fnv1a(...parts) {
 
 test('load: onProgress reports the weights bytes as they arrive, up to the total; weightsId', async () => {
   const size = (f) => statSync(join(pkgDir, 'weights', f)).size;
-  const check = (calls, total, what) => {
+  const check = (calls, total, what, setting) => {
     assert.ok(calls.length >= 1, `${what}: no progress`);
     for (let i = 1; i < calls.length; i++) assert.ok(calls[i].loaded > calls[i - 1].loaded, `${what}: not increasing at ${i}`);
-    assert.deepEqual(calls.at(-1), { loaded: total, total }, what);
-    assert.ok(calls.slice(0, -1).every((c) => c.total === total && c.loaded < total), `${what}: a total before the end`);
+    assert.deepEqual(calls.at(-1), { loaded: total, total, setting }, what);
+    assert.ok(calls.slice(0, -1).every((c) => c.total === total && c.loaded < total && c.setting === setting), `${what}: a total before the end`);
   };
-  const both = size('norm.json') + size('supervised.bin') + size('unsupervised.bin');
+  // At load: the statistics, the shared networks and the supervised stylizer; the unsupervised
+  // one when it is first used.
+  const first = size('norm.json') + size('shared.bin') + size('supervised.bin');
   const fromFiles = [];
   const a = await Stylizer.load({ onProgress: (p) => fromFiles.push({ ...p }) });
-  check(fromFiles, both, 'files');
+  check(fromFiles, first, 'files', 'supervised');
+  const later = [];
+  fromFiles.length = 0;
   const one = [];
-  await Stylizer.load({ settings: ['supervised'], onProgress: (p) => one.push({ ...p }) });
-  check(one, size('norm.json') + size('supervised.bin'), 'one setting');
+  await Stylizer.load({ settings: ['unsupervised'], onProgress: (p) => one.push({ ...p }) });
+  check(one, size('norm.json') + size('shared.bin') + size('unsupervised.bin'), 'one setting', 'unsupervised');
   const server = await serve(pkgDir);
   try {
     const overHttp = [];
     const b = await Stylizer.load({ weights: `${server.base}/weights/`, onProgress: (p) => overHttp.push({ ...p }) });
-    check(overHttp, both, 'HTTP');
+    check(overHttp, first, 'HTTP', 'supervised');
     assert.ok(overHttp.length > 10, `HTTP: ${overHttp.length} calls (the bodies are streamed)`);
     assert.equal(b.weightsId, a.weightsId);
+    overHttp.length = 0;
+    await b.stylize(walk, { prior: true, unsupervised: true });
+    check(overHttp, size('unsupervised.bin'), 'HTTP, unsupervised when first used', 'unsupervised');
   } finally {
     server.close();
   }
   // Weights already in memory: nothing to report.
   const none = [];
   const w = (f) => readFileSync(join(pkgDir, 'weights', f));
-  const c = await Stylizer.load({ weights: { manifest: w('manifest.json'), norm: w('norm.json'), supervised: w('supervised.bin') }, onProgress: () => none.push(1) });
+  const c = await Stylizer.load({ weights: { manifest: w('manifest.json'), norm: w('norm.json'), shared: w('shared.bin'), supervised: w('supervised.bin') }, onProgress: () => none.push(1) });
+  await a.stylize(walk, { prior: true, unsupervised: true });
+  check(fromFiles, size('unsupervised.bin'), 'files, unsupervised when first used', 'unsupervised');
   const d = await Stylizer.load({ weights: a, settings: ['unsupervised'], onProgress: () => none.push(1) });
   assert.deepEqual(none, []);
+  assert.deepEqual(later, []);
   // The weights' fingerprint: FNV-1a of the manifest's and the statistics' bytes, however loaded.
   assert.equal(a.weightsId, fnv1a(w('manifest.json'), w('norm.json')));
   assert.match(a.weightsId, /^[0-9a-f]{8}$/);
@@ -248,6 +259,14 @@ test('free(): memory released now; a Motion or Stylizer used again is rebuilt, a
   own.free();
   assert.equal((await own.stylize(content, { label: 'old', seed: 2 }))[0].toBvh(), expected);
   assert.equal(content.frames, 81);
+  // A model added when first used is rebuilt too after free().
+  const prior = { prior: true, unsupervised: true, seed: 4 };
+  const unsup = (await own.stylize(content, prior))[0].toBvh();
+  assert.deepEqual(own.loadedSettings(), ['supervised', 'unsupervised']);
+  own.free();
+  own.free();
+  assert.equal((await own.stylize(content, prior))[0].toBvh(), unsup);
+  assert.deepEqual(own.loadedSettings(), ['supervised', 'unsupervised']);
 });
 
 test('a panic in the engine: INTERNAL with its message; the same Stylizer and Motions carry on, same bytes', async () => {
@@ -294,8 +313,10 @@ test('webgpu: falls back to the CPU with the reason', async () => {
 
 test('weights as bytes, from a folder path, and fetched over HTTP', async () => {
   const w = (f) => readFileSync(join(pkgDir, 'weights', f));
-  const fromBytes = await Stylizer.load({ weights: { manifest: w('manifest.json'), norm: w('norm.json'), supervised: w('supervised.bin') } });
+  const fromBytes = await Stylizer.load({ weights: { manifest: w('manifest.json'), norm: w('norm.json'), shared: w('shared.bin'), supervised: w('supervised.bin') } });
   assert.deepEqual(fromBytes.settings(), ['supervised']);
+  await rejects(() => fromBytes.stylize(walk, { prior: true, unsupervised: true }), 'SETTING_UNAVAILABLE');
+  await rejects(() => Stylizer.load({ weights: { manifest: w('manifest.json'), norm: w('norm.json'), supervised: w('supervised.bin') } }), 'BAD_WEIGHTS');
   const fromPath = await Stylizer.load({ weights: join(pkgDir, 'weights'), settings: ['unsupervised'] });
   assert.deepEqual(fromPath.settings(), ['unsupervised']);
   const server = await serve(pkgDir);

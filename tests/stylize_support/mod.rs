@@ -85,18 +85,25 @@ pub fn manifest() -> Manifest {
     let entry = |setting: &str| ModelEntry {
         setting: setting.into(),
         file: format!("{setting}.bin"),
+        bytes: None,
+        fnv1a64: None,
+        encoding: None,
         width: WIDTH,
         stages: vec![stage("ae"), stage("stylizer")],
         label_codes: None,
     };
     Manifest {
-        format: motion_stylizer::stylize::manifest::FORMAT,
+        // Format 1 (one whole f16 bundle per setting): tests/weights_parts.rs writes format 2 from it.
+        format: 1,
         licence: "test weights (untrained)".into(),
         styles: STYLES.iter().map(|s| s.to_string()).collect(),
         norm: "norm.json".into(),
+        norm_bytes: None,
+        norm_fnv1a64: None,
         window: 160,
         split: "assets/split/heldout.txt".into(),
         heldout_takes: 0,
+        shared: None,
         models: vec![entry("supervised"), entry("unsupervised")],
     }
 }
