@@ -168,26 +168,43 @@ mod bench {
         stylizer.step(&batch)?;
         ae.phases = Some(PhaseTimes::default());
         stylizer.phases = Some(PhaseTimes::default());
-        let mut ae_s = Vec::with_capacity(repeats);
-        let mut stylizer_s = Vec::with_capacity(repeats);
+        let (mut ae_s, mut stylizer_s) = (Vec::with_capacity(repeats), Vec::with_capacity(repeats));
+        let (mut ae_cpu_s, mut stylizer_cpu_s) = (Vec::with_capacity(repeats), Vec::with_capacity(repeats));
         for _ in 0..repeats {
-            let t = Instant::now();
+            let (t, c) = (Instant::now(), cpu_seconds());
             ae.step(batch.motion1.clone())?;
             ae_s.push(t.elapsed().as_secs_f64());
-            let t = Instant::now();
+            ae_cpu_s.push(cpu_seconds() - c);
+            let (t, c) = (Instant::now(), cpu_seconds());
             stylizer.step(&batch)?;
             stylizer_s.push(t.elapsed().as_secs_f64());
+            stylizer_cpu_s.push(cpu_seconds() - c);
         }
         let out = json!({
             "width": width,
             "rayon_num_threads": threads,
             "ae_s": ae_s,
             "stylizer_s": stylizer_s,
+            "ae_cpu_s": ae_cpu_s,
+            "stylizer_cpu_s": stylizer_cpu_s,
             "ae_phases_s": phases(&ae.phases.unwrap_or_default()),
             "stylizer_phases_s": phases(&stylizer.phases.unwrap_or_default()),
         });
         println!("{out}");
         Ok(())
+    }
+
+    /// CPU seconds (user + system, every thread) the process has used: `/proc/self/stat`'s utime
+    /// and stime in clock ticks (100 a second on Linux); 0 where it cannot be read. On a shared
+    /// machine this moves less than wall time (what `time.process_time()` gives PyTorch's side).
+    fn cpu_seconds() -> f64 {
+        let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else { return 0.0 };
+        // Fields after the command name (which is in parentheses and may hold spaces).
+        let Some(rest) = stat.rsplit_once(')').map(|(_, r)| r) else { return 0.0 };
+        let fields: Vec<&str> = rest.split_whitespace().collect();
+        let ticks = |i: usize| fields.get(i).and_then(|f| f.parse::<f64>().ok()).unwrap_or(0.0);
+        // utime and stime are fields 14 and 15 of the line, 12 and 13 after the name.
+        (ticks(11) + ticks(12)) / 100.0
     }
 
     pub fn main() -> anyhow::Result<()> {

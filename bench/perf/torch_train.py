@@ -521,19 +521,23 @@ def timing(dir_, repeats, threads):
     ae.step(d["motion1"])
     st.step(d["motion1"], d["motion2"], d["labels"], d["noise"][0])
     ae.phases, st.phases = PhaseTimes(), PhaseTimes()
-    ae_s, st_s = [], []
+    ae_s, st_s, ae_cpu_s, st_cpu_s = [], [], [], []
     for k in range(repeats):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         ae.step(d["motion1"])
         ae_s.append(time.perf_counter() - t0)
-        t0 = time.perf_counter()
+        ae_cpu_s.append(time.process_time() - c0)
+        t0, c0 = time.perf_counter(), time.process_time()
         st.step(d["motion1"], d["motion2"], d["labels"], d["noise"][(k + 1) % steps])
         st_s.append(time.perf_counter() - t0)
+        st_cpu_s.append(time.process_time() - c0)
     print(json.dumps({
         "width": meta["width"],
         "threads": torch.get_num_threads(),
         "ae_s": ae_s,
         "stylizer_s": st_s,
+        "ae_cpu_s": ae_cpu_s,
+        "stylizer_cpu_s": st_cpu_s,
         "ae_phases_s": ae.phases.mean(),
         "stylizer_phases_s": st.phases.mean(),
         "torch_version": torch.__version__,

@@ -107,7 +107,7 @@ const waitQuiet = (what) => {
 };
 
 // ---- timing, interleaved ----
-const times = { ours: {}, torch: {} };
+const times = { ours: {}, torch: {}, ours_cpu: {}, torch_cpu: {} };
 const phases = { ours: {}, torch: {} };
 const push = (side, w, stage, v) => ((times[side][key(w)] ??= {})[stage] ??= []).push(...v);
 const loads = [];
@@ -117,6 +117,8 @@ const ours = (w) => {
   const r = lastJson(sh(bin, ['time', '--width', String(w), '--repeats', String(repeats)]));
   push('ours', w, 'ae', r.ae_s);
   push('ours', w, 'stylizer', r.stylizer_s);
+  push('ours_cpu', w, 'ae', r.ae_cpu_s);
+  push('ours_cpu', w, 'stylizer', r.stylizer_cpu_s);
   (phases.ours[key(w)] ??= []).push({ ae: r.ae_phases_s, stylizer: r.stylizer_phases_s });
 };
 const torch = (w) => {
@@ -124,6 +126,8 @@ const torch = (w) => {
   const r = lastJson(sh(python, [script, 'time', dir(w), String(repeats), String(threads)]));
   push('torch', w, 'ae', r.ae_s);
   push('torch', w, 'stylizer', r.stylizer_s);
+  push('torch_cpu', w, 'ae', r.ae_cpu_s);
+  push('torch_cpu', w, 'stylizer', r.stylizer_cpu_s);
   (phases.torch[key(w)] ??= []).push({ ae: r.ae_phases_s, stylizer: r.stylizer_phases_s });
   torchInfo = { version: r.torch_version, cpu_capability: r.torch_cpu_capability, threads: r.threads };
 };
@@ -203,6 +207,11 @@ const byWidth = Object.fromEntries(
             ours_min_s: Math.min(...ours),
             torch_min_s: Math.min(...theirs),
             ratio_of_min: Math.min(...ours) / Math.min(...theirs),
+            // CPU seconds (user + system, all threads) per step, medians: on a shared machine
+            // they move less than wall time; at one thread the closest to a quiet machine's ratio.
+            ours_cpu_s: median(times.ours_cpu[k][stage]),
+            torch_cpu_s: median(times.torch_cpu[k][stage]),
+            cpu_ratio: median(times.ours_cpu[k][stage]) / median(times.torch_cpu[k][stage]),
             // Per phase (each run's mean over its steps; median over the runs): forward (latents
             // and losses included), backward, clip (norms and clipping), update (losses read, Adam).
             ours_phases_s: medPhases('ours', w, stage),
@@ -221,6 +230,8 @@ const byWidth = Object.fromEntries(
 const headline = {
   ...Object.fromEntries(widths.map((w) => [`width_${key(w)}`, Object.fromEntries(STAGES.map((s) => [s === 'ae' ? 'autoencoder' : s, byWidth[key(w)][s].ratio]))])),
   threads,
+  // The same ratios on CPU seconds per step (user + system, all threads; see cpu_ratio above).
+  by_cpu_time: Object.fromEntries(widths.map((w) => [`width_${key(w)}`, Object.fromEntries(STAGES.map((s) => [s === 'ae' ? 'autoencoder' : s, byWidth[key(w)][s].cpu_ratio]))])),
   cpu: `${cpu} (${machine.vendor} family ${machine.cpu_family} model ${machine.cpu_model}; ${isa.join(' ')})`,
   definition: `ours native (Burn flex) ÷ PyTorch CPU, seconds per training step, medians of ${rounds * repeats} steps, batch 16 × 160 frames, ${threads} thread(s) each; stylizer = the supervised stage-2 step on the frozen autoencoder (StylizerTrainer::step), autoencoder = the stage-1 autoencoder + global regressor step (AeTrainer::step); widths: 0.5 shipped, 1.0 the paper's (bench/perf/train_run.mjs)`,
 };
@@ -256,6 +267,7 @@ for (const w of widths) {
     const ph = (p) => [p.forward, p.backward, p.clip, p.update].map((x) => x.toFixed(3)).join(' / ');
     const fastest = `(${s.ours_min_s.toFixed(3)}, ${s.torch_min_s.toFixed(3)}, ${s.ratio_of_min.toFixed(2)})`;
     console.log(`${key(w).padEnd(6)} ${stage.padEnd(9)} ${f(s.ours_s)} ${f(s.torch_s)} ${f(s.ratio, 2)}   ${fastest.padEnd(28)} ${ph(s.ours_phases_s)} | ${ph(s.torch_phases_s)}`);
+    console.log(`${''.padEnd(6)} ${'  cpu s'.padEnd(9)} ${f(s.ours_cpu_s)} ${f(s.torch_cpu_s)} ${f(s.cpu_ratio, 2)}   (CPU seconds per step, all threads)`);
   }
 }
 console.log(`GFLOP/s (share of the ${peak.gflops.toFixed(0)} GFLOP/s peak: ${peak.how}):`);
@@ -285,9 +297,7 @@ byMachine[thisMachine].vs_pytorch = { ...(byMachine[thisMachine].vs_pytorch ?? {
 results.train_step_vs_pytorch = headline;
 results.train_step = {
   definition: 'per machine kind (vendor-family-model) and thread count: ours and PyTorch seconds per step (medians), ours per phase, parity of the first 3 steps, the machine; by_threads: the latest machine\'s; written by bench/perf/train_run.mjs (make bench-train)',
-  by_threads: thisMachine === machineKey(train.by_threads?.[String(threads)]?.machine ?? {}) || !train.by_threads
-    ? { ...(train.by_threads ?? {}), [String(threads)]: run }
-    : { [String(threads)]: run },
+  by_threads: byMachine[thisMachine].by_threads,
   by_machine: byMachine,
 };
 writeFileSync(outFile, JSON.stringify(results, null, 2) + '\n');
