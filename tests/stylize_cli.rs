@@ -173,3 +173,50 @@ fn supervised_motion_based_infers_the_reference_label() {
         assert_eq!(read(&inferred), read(&given), "{label}");
     }
 }
+
+/// A batch: two files and a folder in one call write one output per content into the output
+/// folder, each on its own rig under its own name (a folder's contents under their path below it),
+/// the same bytes as one call per file; a file that fails is reported and skipped, the others
+/// written, and the call fails naming it.
+#[test]
+fn a_batch_stylizes_files_and_folders_into_one_output_folder() {
+    let dir = out_dir("cli-batch");
+    let clips = dir.join("clips");
+    std::fs::create_dir_all(clips.join("more")).unwrap();
+    std::fs::copy(fixture_path("foreign", "cmu31_xia_neutral_16_000"), clips.join("more/xia.bvh")).unwrap();
+    let (bandai, m21) = (fixture("bandai", SHORT), fixture("foreign", "m21_walk"));
+    let out = dir.join("out");
+    let w = weights_dir();
+    ok(&["stylize", &bandai, &m21, s(&clips), "--label", "old", "--seed", "3", "--weights", s(w), "-o", s(&out)]);
+    let single =
+        |content: &str, name: &str| read(&stylize(content, &dir.join(name), &["--label", "old", "--seed", "3"]));
+    let outputs = [
+        (out.join(format!("{SHORT}.bvh")), &bandai),
+        (out.join("m21_walk.bvh"), &m21),
+        (out.join("more/xia.bvh"), &s(&clips.join("more/xia.bvh")).to_string()),
+    ];
+    for (i, (path, content)) in outputs.iter().enumerate() {
+        let bytes = read(path);
+        assert_eq!(bytes, single(content, &format!("single{i}.bvh")), "{}", path.display());
+        // Each output on its content's own rig: the same joints as the content.
+        let (a, b) = (
+            Bvh::parse(std::str::from_utf8(&bytes).unwrap()).unwrap(),
+            Bvh::parse(&std::fs::read_to_string(content).unwrap()).unwrap(),
+        );
+        assert_eq!(a.joints.len(), b.joints.len(), "{}", path.display());
+    }
+    // glTF outputs on request.
+    let glb = dir.join("glb");
+    ok(&["stylize", &bandai, &m21, "--label", "old", "--format", "glb", "--weights", s(w), "-o", s(&glb)]);
+    assert_eq!(&read(&glb.join("m21_walk.glb"))[..4], b"glTF");
+    // One bad file: the others are written, the call fails and names it.
+    let bad = dir.join("bad.bvh");
+    std::fs::write(&bad, "HIERARCHY\nROOT x\n").unwrap();
+    let partial = dir.join("partial");
+    let err = fails(&["stylize", s(&bad), &m21, "--label", "old", "--weights", s(w), "-o", s(&partial)]);
+    assert!(err.contains("skipped") && err.contains("bad.bvh") && err.contains("1 of 2 files failed"), "{err}");
+    assert!(partial.join("m21_walk.bvh").is_file());
+    // Two contents with one output name are refused before anything is written.
+    let err = fails(&["stylize", &m21, &m21, "--label", "old", "--weights", s(w), "-o", s(&dir.join("twice"))]);
+    assert!(err.contains("same output"), "{err}");
+}

@@ -1,17 +1,22 @@
 //! `motion-stylizer stylize CONTENT.bvh (--style-motion REF.bvh [--label NAME] | --label NAME |
-//! --prior) [--unsupervised] [--samples N] [--seed S] [--canonical] [--weights DIR] -o OUT.bvh`.
+//! --prior) [--unsupervised] [--samples N] [--seed S] [--canonical] [--weights DIR] -o OUT.bvh`;
+//! several contents or folders at once with `-o OUTDIR` (a batch: a progress bar, each file on its
+//! own rig under its own name, files that fail reported and skipped).
 
 use super::output::Rig;
 use anyhow::{Context, bail};
-use clap::Args;
+use clap::{Args, ValueEnum};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use motion_stylizer::skeleton::{self, Imported};
 use motion_stylizer::stylize::{self, Request, Setting, StyleSource, Weights};
 use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
 pub struct StylizeArgs {
-    /// The motion to stylize (BVH, any rig the importer knows).
-    content: PathBuf,
+    /// The motion(s) to stylize (BVH, any rig the importer knows). Several files, or folders
+    /// (searched recursively for .bvh files), make a batch: then -o is a folder.
+    #[arg(required = true, num_args = 1.., value_name = "CONTENT.bvh|DIR")]
+    content: Vec<PathBuf>,
     /// Motion-based: take the style of this motion (BVH, any rig). The supervised model takes its
     /// style label from --label, or infers it (and says which); the unsupervised one
     /// (--unsupervised) takes none.
@@ -53,9 +58,81 @@ pub struct StylizeArgs {
     /// Default: assets/weights in the crate.
     #[arg(long, value_name = "DIR")]
     weights: Option<PathBuf>,
-    /// Output path: BVH, or binary glTF when it ends in .glb.
-    #[arg(short, long, value_name = "OUT.bvh|OUT.glb")]
+    /// Output path: BVH, or binary glTF when it ends in .glb. For a batch: the output folder
+    /// (created if missing), where each content keeps its name (and its path below a folder given).
+    #[arg(short, long, value_name = "OUT.bvh|OUT.glb|OUTDIR")]
     output: PathBuf,
+    /// The format of a batch's outputs (a single output's comes from its extension).
+    #[arg(long, value_enum, default_value_t = BatchFormat::Bvh)]
+    format: BatchFormat,
+}
+
+/// The file format of a batch's outputs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum BatchFormat {
+    Bvh,
+    Glb,
+}
+
+impl BatchFormat {
+    fn extension(self) -> &'static str {
+        match self {
+            BatchFormat::Bvh => "bvh",
+            BatchFormat::Glb => "glb",
+        }
+    }
+}
+
+/// One content of a batch: the file, and its output path without extension (relative to the
+/// output folder).
+#[derive(Debug, PartialEq, Eq)]
+struct BatchItem {
+    path: PathBuf,
+    name: PathBuf,
+}
+
+/// The contents of a batch, in a stable order: files as given (named by their file name), folders
+/// searched recursively for `.bvh` files (named by their path below the folder). Two contents
+/// with one output name are an error (nothing may overwrite another's output).
+fn batch_items(inputs: &[PathBuf]) -> anyhow::Result<Vec<BatchItem>> {
+    fn walk(dir: &Path, found: &mut Vec<PathBuf>) -> anyhow::Result<()> {
+        let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
+            .with_context(|| format!("cannot read the folder {}", dir.display()))?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .collect();
+        entries.sort();
+        for path in entries {
+            if path.is_dir() {
+                walk(&path, found)?;
+            } else if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("bvh")) {
+                found.push(path);
+            }
+        }
+        Ok(())
+    }
+    let mut items = Vec::new();
+    for input in inputs {
+        if input.is_dir() {
+            let mut found = Vec::new();
+            walk(input, &mut found)?;
+            if found.is_empty() {
+                bail!("no .bvh files in the folder {}", input.display());
+            }
+            for path in found {
+                let name = path.strip_prefix(input).unwrap_or(&path).with_extension("");
+                items.push(BatchItem { path, name });
+            }
+        } else {
+            let stem = input.file_stem().with_context(|| format!("not a file name: {}", input.display()))?;
+            items.push(BatchItem { path: input.clone(), name: PathBuf::from(stem) });
+        }
+    }
+    let mut names: Vec<&Path> = items.iter().map(|i| i.name.as_path()).collect();
+    names.sort();
+    if let Some(w) = names.windows(2).find(|w| w[0] == w[1]) {
+        bail!("two contents would write the same output {} (give them from different folders)", w[0].display());
+    }
+    Ok(items)
 }
 
 /// The weights folder shipped with the crate.
@@ -99,7 +176,6 @@ pub fn run(args: &StylizeArgs) -> anyhow::Result<()> {
     let label = args.label.as_deref().map(|name| weights.style(name)).transpose()?;
 
     let map = super::read_map(args.map.as_deref())?;
-    let content = import(&args.content, map.as_ref())?;
     let reference = args.style_motion.as_deref().map(|p| import(p, None)).transpose()?;
     // Supervised motion-based without a label: the reference's label is inferred.
     let label = match (&reference, label, setting) {
@@ -124,21 +200,109 @@ pub fn run(args: &StylizeArgs) -> anyhow::Result<()> {
         temperature: args.temperature,
         strength: args.strength,
     };
-    let motions = stylize::stylize(&weights, &content.motion, &request)?;
+    let job = Job { args, weights: &weights, request: &request, map: map.as_ref() };
+    let batch = args.content.len() > 1 || args.content.iter().any(|c| c.is_dir());
+    if !batch {
+        return job.one(&args.content[0], &args.output, true);
+    }
 
-    let outputs: Vec<_> =
-        motions.iter().map(|m| if args.canonical { m.to_bvh() } else { content.rig.from_canonical(m) }).collect();
-    let rig = || if args.canonical { Rig::Canonical } else { Rig::User(content.rig.report()) };
-    for (i, bvh) in outputs.iter().enumerate() {
-        let path = output_path(&args.output, i, outputs.len());
-        super::output::write_motion(&path, bvh, rig())?;
-        eprintln!(
-            "{} ({} frames) -> {} ({}, {setting})",
-            args.content.display(),
-            content.motion.frames(),
-            path.display(),
-            if args.canonical { "canonical rig".to_string() } else { format!("{} rig", content.rig.report().rig) }
-        );
+    let items = batch_items(&args.content)?;
+    if args.output.is_file() {
+        bail!("{} is a file; a batch writes into a folder (-o OUTDIR)", args.output.display());
+    }
+    let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        ProgressBar::with_draw_target(Some(items.len() as u64), ProgressDrawTarget::stderr())
+    } else {
+        ProgressBar::hidden()
+    };
+    bar.set_style(
+        ProgressStyle::with_template("{bar:30} {pos}/{len} files, {elapsed} (ETA {eta}) {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let mut failed = Vec::new();
+    for item in &items {
+        bar.set_message(item.path.display().to_string());
+        let out = args.output.join(&item.name).with_extension(args.format.extension());
+        let written = out
+            .parent()
+            .map_or(Ok(()), std::fs::create_dir_all)
+            .with_context(|| format!("cannot create the folder for {}", out.display()))
+            .and_then(|()| job.one(&item.path, &out, false));
+        if let Err(e) = written {
+            bar.suspend(|| eprintln!("skipped {}: {e:#}", item.path.display()));
+            failed.push(item.path.display().to_string());
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    let done = items.len() - failed.len();
+    eprintln!("stylized {done} of {} files into {}", items.len(), args.output.display());
+    if !failed.is_empty() {
+        bail!("{} of {} files failed: {}", failed.len(), items.len(), failed.join(", "));
     }
     Ok(())
+}
+
+/// What every content of one `stylize` call shares.
+struct Job<'a> {
+    args: &'a StylizeArgs,
+    weights: &'a Weights,
+    request: &'a Request<'a>,
+    map: Option<&'a skeleton::ManualMap>,
+}
+
+impl Job<'_> {
+    /// Stylizes one content into `output` (its samples as `output_i`), on the content's rig or the
+    /// canonical one; `report`: one line per file written.
+    fn one(&self, content_path: &Path, output: &Path, report: bool) -> anyhow::Result<()> {
+        let args = self.args;
+        let content = import(content_path, self.map)?;
+        let motions = stylize::stylize(self.weights, &content.motion, self.request)?;
+        let outputs: Vec<_> =
+            motions.iter().map(|m| if args.canonical { m.to_bvh() } else { content.rig.from_canonical(m) }).collect();
+        let rig = || if args.canonical { Rig::Canonical } else { Rig::User(content.rig.report()) };
+        for (i, bvh) in outputs.iter().enumerate() {
+            let path = output_path(output, i, outputs.len());
+            super::output::write_motion(&path, bvh, rig())?;
+            if report {
+                eprintln!(
+                    "{} ({} frames) -> {} ({}, {})",
+                    content_path.display(),
+                    content.motion.frames(),
+                    path.display(),
+                    if args.canonical {
+                        "canonical rig".to_string()
+                    } else {
+                        format!("{} rig", content.rig.report().rig)
+                    },
+                    self.request.setting
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn batch_items_name_files_by_name_and_folder_contents_by_their_path() {
+        let dir = std::env::temp_dir().join(format!("ms-batch-items-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("clips/sub")).unwrap();
+        for f in ["clips/b.bvh", "clips/a.BVH", "clips/sub/b.bvh", "clips/notes.txt", "one.bvh"] {
+            std::fs::write(dir.join(f), "").unwrap();
+        }
+        let items = batch_items(&[dir.join("one.bvh"), dir.join("clips")]).unwrap();
+        let names: Vec<_> = items.iter().map(|i| i.name.to_string_lossy().into_owned()).collect();
+        assert_eq!(names, ["one", "a", "b", "sub/b"]);
+        // The same name twice would overwrite an output: refused.
+        let err = batch_items(&[dir.join("one.bvh"), dir.join("one.bvh")]).unwrap_err();
+        assert!(err.to_string().contains("same output"), "{err}");
+        std::fs::create_dir_all(dir.join("empty")).unwrap();
+        assert!(batch_items(&[dir.join("empty")]).unwrap_err().to_string().contains("no .bvh files"));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }
