@@ -1,12 +1,15 @@
 #!/usr/bin/env node
 // A small static file server for the browser demo (out/www/ by default), with the MIME types
-// browsers need for ES modules and WebAssembly (application/wasm enables streaming compilation).
+// browsers need for ES modules and WebAssembly (application/wasm enables streaming compilation),
+// and what a static host does: gzip (level 6, for clients that accept it; images as they are) and
+// ETag revalidation (`cache-control: no-cache`: a second visit gets 304s, not the files again).
 //
 //   node scripts/serve-www.mjs [DIR] [--port 8080] [--host 127.0.0.1]
 // Tries the next ports when the one asked for is taken; prints the address to open. Also imported
 // by the end-to-end tests (startServer).
 
-import { createReadStream, statSync } from 'node:fs';
+import { createReadStream, readFileSync, statSync } from 'node:fs';
+import { gzipSync } from 'node:zlib';
 import { createServer } from 'node:http';
 import { extname, join, resolve, sep } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -25,9 +28,13 @@ const TYPES = {
   '.ts': 'text/plain; charset=utf-8',
 };
 
-/** Serves `dir` on host:port (0: any free port); resolves to { url, close }. */
-export function startServer(dir, { port = 0, host = '127.0.0.1', tries = 20 } = {}) {
+/** Already compressed (gzip would only add bytes). */
+const STORED = new Set(['.png', '.jpg', '.jpeg', '.gz', '.br', '.zip']);
+
+/** Serves `dir` on host:port (0: any free port); resolves to { url, close }. `gzip: false` sends files as they are. */
+export function startServer(dir, { port = 0, host = '127.0.0.1', tries = 20, gzip = true } = {}) {
   const root = resolve(dir);
+  const compressed = new Map(); // file -> { tag, bytes }
   const server = createServer((req, res) => {
     let path;
     try {
@@ -47,14 +54,32 @@ export function startServer(dir, { port = 0, host = '127.0.0.1', tries = 20 } = 
       res.writeHead(404, { 'content-type': 'text/plain' }).end('not found');
       return;
     }
-    res.writeHead(200, {
+    const etag = `"${stat.size.toString(16)}-${Math.floor(stat.mtimeMs).toString(16)}"`;
+    const headers = {
       'content-type': TYPES[extname(file)] ?? 'application/octet-stream',
-      'content-length': stat.size,
       'cache-control': 'no-cache',
+      etag,
+      vary: 'accept-encoding',
       'x-content-type-options': 'nosniff',
-    });
-    if (req.method === 'HEAD') res.end();
-    else createReadStream(file).pipe(res);
+    };
+    if (req.headers['if-none-match'] === etag) {
+      res.writeHead(304, headers).end();
+      return;
+    }
+    const zipped = gzip && !STORED.has(extname(file)) && /\bgzip\b/.test(req.headers['accept-encoding'] ?? '');
+    if (!zipped) {
+      res.writeHead(200, { ...headers, 'content-length': stat.size });
+      if (req.method === 'HEAD') res.end();
+      else createReadStream(file).pipe(res);
+      return;
+    }
+    let entry = compressed.get(file);
+    if (entry?.tag !== etag) {
+      entry = { tag: etag, bytes: gzipSync(readFileSync(file), { level: 6 }) };
+      compressed.set(file, entry);
+    }
+    res.writeHead(200, { ...headers, 'content-encoding': 'gzip', 'content-length': entry.bytes.length });
+    res.end(req.method === 'HEAD' ? undefined : entry.bytes);
   });
   return new Promise((ok, fail) => {
     let attempt = 0;

@@ -229,7 +229,7 @@ fn integer_encodings_stay_within_their_step_and_f16_is_exact_to_f16() {
     assert_eq!(mixed.of("generator.block1.conv.conv.weight", &[96, 64, 3]), TensorEncoding::Int { bits: 4, group: 64 });
     assert_eq!(mixed.of("generator.block1.conv.conv.bias", &[96]), TensorEncoding::F16);
     assert_eq!(mixed.name(), "q4g64,style_encoder=q8");
-    for bad in ["q3", "q9", "int8", "q4g0", "q8,x", ""] {
+    for bad in ["q3", "q9", "int8", "q4g0", "q8,x", "", "q16"] {
         assert!(PartEncoding::parse(bad).is_none(), "{bad}");
     }
 }

@@ -202,7 +202,7 @@ const MIN_QUANTISED: usize = 4096;
 
 impl TensorEncoding {
     /// `"f16"`, `"q8"` (int8, a scale per output channel), `"q4"`, `"q4g64"` (int4, a scale per
-    /// 64 weights of an output channel), `"q6"`, ...: the CLI's spelling (4, 5, 6 or 8 bits).
+    /// 64 weights of an output channel), `"q6"`, ...: the CLI's spelling (4 to 8 bits).
     pub fn parse(spec: &str) -> Option<TensorEncoding> {
         let spec = spec.trim();
         if spec == "f16" {
@@ -213,7 +213,7 @@ impl TensorEncoding {
             Some((b, g)) => (b.parse::<u8>().ok()?, g.parse::<usize>().ok().filter(|&g| g > 0)?),
             None => (rest.parse::<u8>().ok()?, 0),
         };
-        matches!(bits, 4 | 5 | 6 | 8).then_some(TensorEncoding::Int { bits, group })
+        matches!(bits, 4..=8).then_some(TensorEncoding::Int { bits, group })
     }
 
     /// The CLI's spelling ([`TensorEncoding::parse`]).

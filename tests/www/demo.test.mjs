@@ -91,7 +91,7 @@ test('loads with download progress, stylizes the default sample, and shows the f
   assert.ok(downloads.length >= 2, statuses.join(' | '));
   const [, last, total] = downloads.at(-1);
   assert.equal(last, total);
-  assert.ok(Number(total) > 10, `${total} MB`);
+  assert.ok(Number(total) > 1, `${total} MB`); // the statistics, shared networks and supervised stylizer (issue 17: the unsupervised one later)
   assert.ok(statuses.indexOf('Starting the engine…') > statuses.indexOf(downloads.at(-1)[0]), statuses.join(' | '));
   // The weights' fingerprint of share links: the package's, as Node computes it.
   const { Stylizer } = await import(pathToFileURL(`${site}/pkg/index.js`));

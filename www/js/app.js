@@ -208,7 +208,12 @@ async function stylize() {
   status(`Stylizing ${state.content.name}${n > 1 ? ` (${n} samples)` : ''}…`);
   const started = performance.now();
   try {
-    const { outputs, ms, inferredLabel } = await worker.call('stylize', request);
+    const { outputs, ms, inferredLabel } = await worker.call('stylize', request, (p) => {
+      if (p.stage === 'weights' && p.total) {
+        status(`Downloading the ${p.setting ?? ''} model: ${(p.loaded / 1048576).toFixed(1)} of ${(p.total / 1048576).toFixed(1)} MB…`);
+        progress(p.loaded / p.total);
+      }
+    });
     const report = state.content.report;
     const turn = state.content.display.turn;
     state.results = outputs.map((o) => ({ bvh: o.bvh, display: { ...toDisplay(o, report, turn), canonical: canonicalIndices(o.names, report.matched) } }));

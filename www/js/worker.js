@@ -7,6 +7,8 @@ import { Stylizer } from '../pkg/index.js';
 
 let stylizer = null;
 const slots = new Map();
+/** Where the package's download progress goes: the request in progress (load, or a stylize that fetches a model). */
+let reportProgress = null;
 
 const coded = (code, message) => Object.assign(new Error(message), { code });
 
@@ -40,14 +42,17 @@ const ops = {
     stylizer = null;
     previous?.free();
     if (previous) progress({ stage: 'compile' });
-    const onProgress = ({ loaded, total }) => {
-      progress({ stage: 'weights', loaded, total });
-      if (loaded === total) {
+    let loading = true;
+    reportProgress = progress;
+    const onProgress = ({ loaded, total, setting }) => {
+      reportProgress?.({ stage: 'weights', loaded, total, setting });
+      if (loading && loaded === total) {
         fetchMs = performance.now() - t0;
-        progress({ stage: 'compile' });
+        reportProgress?.({ stage: 'compile' });
       }
     };
     stylizer = await Stylizer.load({ weights: previous ?? undefined, backend, onProgress });
+    loading = false;
     return {
       styles: stylizer.styles(),
       settings: stylizer.settings(),
@@ -85,7 +90,9 @@ const ops = {
     };
   },
 
-  async stylize({ source, unsupervised, samples, seed, temperature, strength, rig, only, glb }) {
+  async stylize({ source, unsupervised, samples, seed, temperature, strength, rig, only, glb }, progress) {
+    // The unsupervised model is fetched when it is first used: its download is this request's progress.
+    reportProgress = progress;
     const content = slots.get('content');
     if (!content) throw coded('BAD_REQUEST', 'load a content motion first');
     const t0 = performance.now();
