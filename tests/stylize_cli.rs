@@ -220,3 +220,39 @@ fn a_batch_stylizes_files_and_folders_into_one_output_folder() {
     let err = fails(&["stylize", &m21, &m21, "--label", "old", "--weights", s(w), "-o", s(&dir.join("twice"))]);
     assert!(err.contains("same output"), "{err}");
 }
+
+/// `--part PART=STYLE`: a style per body part. With the main style for the other parts, the lower
+/// body's from the main style keeps the root of the whole-body output; parts as content only
+/// change the styled part; unknown parts and styles are clear errors.
+#[test]
+fn part_styles_through_the_cli() {
+    let dir = out_dir("cli-parts");
+    let content = fixture("foreign", "m21_walk");
+    let whole = read(&stylize(&content, &dir.join("whole.bvh"), &["--label", "old", "--canonical"]));
+    let upper = read(&stylize(
+        &content,
+        &dir.join("upper.bvh"),
+        &["--label", "old", "--part", "upper=label:proud", "--canonical"],
+    ));
+    let (whole, upper) = (
+        Bvh::parse(std::str::from_utf8(&whole).unwrap()).unwrap(),
+        Bvh::parse(std::str::from_utf8(&upper).unwrap()).unwrap(),
+    );
+    assert_eq!(whole.frames, upper.frames);
+    // Hips channels (root position + rotation) from the lower body = the whole-body `old` output.
+    let hips = whole.joints[0].channels.len();
+    let frames_differ = (0..whole.frames).any(|f| whole.frame(f)[hips..] != upper.frame(f)[hips..]);
+    for f in 0..whole.frames {
+        assert_eq!(whole.frame(f)[..hips], upper.frame(f)[..hips], "frame {f}: the root is the lower body's");
+    }
+    assert!(frames_differ, "the upper body took another style");
+    // Only a part, the rest the content's own motion.
+    stylize(&content, &dir.join("head.bvh"), &["--part", "head=prior"]);
+    let w = weights_dir();
+    for (bad, says) in
+        [("arms=label:old", "lower, upper and head"), ("upper=style:old", "label:NAME"), ("upper", "PART=STYLE")]
+    {
+        let err = fails(&["stylize", &content, "--part", bad, "--weights", s(w), "-o", s(&dir.join("bad.bvh"))]);
+        assert!(err.contains(says), "{bad}: {err}");
+    }
+}

@@ -409,3 +409,40 @@ fn strength_scales_the_change_and_is_checked() {
         assert_eq!(err.code(), "BAD_REQUEST");
     }
 }
+
+/// Per-body-part styles: each part's joints (local rotations) come from its own request's output,
+/// the root and legs from the lower body's; a part without a request keeps the content's; parts
+/// with one request equal the whole-body stylization; bad part requests are typed errors.
+#[test]
+fn body_parts_take_their_joints_from_their_own_request() {
+    use motion_stylizer::stylize::{BodyPart, PartRequests, stylize_parts};
+    let w = weights();
+    let content = import("bandai", WALK).motion;
+    let old = Request::new(StyleSource::Label(label(&w, "old"))).with_seed(1);
+    let proud = Request::new(StyleSource::Label(label(&w, "proud"))).with_seed(2);
+    let whole_old = stylize::stylize(&w, &content, &old).unwrap().remove(0);
+    let whole_proud = stylize::stylize(&w, &content, &proud).unwrap().remove(0);
+    let parts = PartRequests { lower: Some(old.clone()), upper: Some(proud.clone()), head: None };
+    let mixed = stylize_parts(&w, &content, &parts).unwrap().remove(0);
+    assert_eq!(mixed.root_positions(), whole_old.root_positions(), "root from the lower body's output");
+    for (f, pose) in mixed.rotations().iter().enumerate() {
+        for (part, source) in
+            [(BodyPart::Lower, &whole_old), (BodyPart::Upper, &whole_proud), (BodyPart::Head, &content)]
+        {
+            for &j in part.joints() {
+                // Equal up to the renormalisation of the combined motion's quaternions.
+                let d = (pose[j].dot(source.rotations()[f][j]).abs() - 1.0).abs();
+                assert!(d < 1e-12, "frame {f}, joint {j} of {part:?}: {d}");
+            }
+        }
+    }
+    assert!(max_diff(&mixed, &whole_old) > 1e-3 && max_diff(&mixed, &whole_proud) > 1e-3);
+    // One request for every part: the whole-body output itself.
+    let all_old = PartRequests { lower: Some(old.clone()), upper: Some(old.clone()), head: Some(old.clone()) };
+    assert!(max_diff(&stylize_parts(&w, &content, &all_old).unwrap()[0], &whole_old) < 1e-12);
+    // No part, or parts with other sample counts: BAD_REQUEST.
+    let none = stylize_parts(&w, &content, &PartRequests::default()).unwrap_err();
+    assert_eq!(none.code(), "BAD_REQUEST");
+    let counts = PartRequests { lower: Some(old.clone().with_samples(2)), upper: Some(proud), head: None };
+    assert_eq!(stylize_parts(&w, &content, &counts).unwrap_err().code(), "BAD_REQUEST");
+}

@@ -8,7 +8,7 @@ use anyhow::{Context, bail};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use motion_stylizer::skeleton::{self, Imported};
-use motion_stylizer::stylize::{self, Request, Setting, StyleSource, Weights};
+use motion_stylizer::stylize::{self, BodyPart, PartRequests, Request, Setting, StyleSource, Weights};
 use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
@@ -62,6 +62,12 @@ pub struct StylizeArgs {
     /// (created if missing), where each content keeps its name (and its path below a folder given).
     #[arg(short, long, value_name = "OUT.bvh|OUT.glb|OUTDIR")]
     output: PathBuf,
+    /// A style for one body part, repeatable: PART=STYLE with PART lower (root and legs), upper
+    /// (spine and arms) or head (neck and head), and STYLE label:NAME, motion:REF.bvh, prior or
+    /// content (the content's own motion). Parts not given take the main style (--label,
+    /// --style-motion, --prior), or keep the content when there is none.
+    #[arg(long = "part", value_name = "PART=STYLE")]
+    parts: Vec<String>,
     /// The format of a batch's outputs (a single output's comes from its extension).
     #[arg(long, value_enum, default_value_t = BatchFormat::Bvh)]
     format: BatchFormat,
@@ -166,33 +172,85 @@ pub fn output_path(output: &Path, index: usize, samples: usize) -> PathBuf {
     output.with_file_name(name)
 }
 
+/// A style as the command line gives it (the main one, or a body part's).
+#[derive(Clone, Debug, PartialEq)]
+enum StyleArg {
+    Motion { path: PathBuf, label: Option<String> },
+    Label(String),
+    Prior,
+    Content,
+}
+
+/// `PART=STYLE` of `--part` (see [`StylizeArgs`]).
+fn parse_part(text: &str) -> anyhow::Result<(BodyPart, StyleArg)> {
+    let Some((part, style)) = text.split_once('=') else {
+        bail!("--part {text:?}: write PART=STYLE, e.g. upper=label:angry");
+    };
+    let Some(part) = BodyPart::from_name(part.trim()) else {
+        bail!("--part {text:?}: the parts are lower, upper and head");
+    };
+    let style = match style.trim().split_once(':') {
+        Some(("label", name)) => StyleArg::Label(name.to_string()),
+        Some(("motion", path)) => StyleArg::Motion { path: PathBuf::from(path), label: None },
+        None if style.trim() == "prior" => StyleArg::Prior,
+        None if style.trim() == "content" => StyleArg::Content,
+        _ => bail!("--part {text:?}: the style is label:NAME, motion:REF.bvh, prior or content"),
+    };
+    Ok((part, style))
+}
+
+/// A [`StyleArg`]'s source: its reference imported (and, for the supervised model without a
+/// label, the reference's label inferred, said on stderr). `None` for [`StyleArg::Content`].
+fn resolve_style(
+    style: &StyleArg,
+    weights: &Weights,
+    setting: Setting,
+) -> anyhow::Result<Option<(Option<Imported>, Option<motion_stylizer::dataset::Style>)>> {
+    Ok(Some(match style {
+        StyleArg::Content => return Ok(None),
+        StyleArg::Prior => (None, None),
+        StyleArg::Label(name) => (None, Some(weights.style(name)?)),
+        StyleArg::Motion { path, label } => {
+            let reference = import(path, None)?;
+            let label = match (label, setting) {
+                (Some(name), _) => Some(weights.style(name)?),
+                (None, Setting::Supervised) => {
+                    let (style, _) = stylize::infer_label(weights, &reference.motion)?;
+                    let name = weights.style_name(style).unwrap_or("?");
+                    eprintln!("inferred the reference's label: {name} (of {}; pass --label to choose it)", path.display());
+                    Some(style)
+                }
+                (None, Setting::Unsupervised) => None,
+            };
+            (Some(reference), label)
+        }
+    }))
+}
+
+fn source_of<'a>(resolved: &'a (Option<Imported>, Option<motion_stylizer::dataset::Style>)) -> StyleSource<'a> {
+    match resolved {
+        (Some(r), label) => StyleSource::Motion { motion: &r.motion, label: *label },
+        (None, Some(label)) => StyleSource::Label(*label),
+        (None, None) => StyleSource::Prior,
+    }
+}
+
 pub fn run(args: &StylizeArgs) -> anyhow::Result<()> {
-    if args.style_motion.is_none() && args.label.is_none() && !args.prior {
-        bail!("give a style: --style-motion REF.bvh, --label NAME or --prior");
+    let main = match (&args.style_motion, &args.label, args.prior) {
+        (Some(path), label, _) => Some(StyleArg::Motion { path: path.clone(), label: label.clone() }),
+        (None, Some(name), _) => Some(StyleArg::Label(name.clone())),
+        (None, None, true) => Some(StyleArg::Prior),
+        (None, None, false) => None,
+    };
+    let parts: Vec<(BodyPart, StyleArg)> = args.parts.iter().map(|p| parse_part(p)).collect::<anyhow::Result<_>>()?;
+    if main.is_none() && parts.is_empty() {
+        bail!("give a style: --style-motion REF.bvh, --label NAME or --prior (or --part PART=STYLE)");
     }
     let setting = if args.unsupervised { Setting::Unsupervised } else { Setting::Supervised };
     let dir = args.weights.clone().unwrap_or_else(default_weights_dir);
     let weights = load_weights(&dir)?;
-    let label = args.label.as_deref().map(|name| weights.style(name)).transpose()?;
-
     let map = super::read_map(args.map.as_deref())?;
-    let reference = args.style_motion.as_deref().map(|p| import(p, None)).transpose()?;
-    // Supervised motion-based without a label: the reference's label is inferred.
-    let label = match (&reference, label, setting) {
-        (Some(r), None, Setting::Supervised) => {
-            let (style, _) = stylize::infer_label(&weights, &r.motion)?;
-            let name = weights.style_name(style).unwrap_or("?");
-            eprintln!("inferred the reference's label: {name} (pass --label to choose it)");
-            Some(style)
-        }
-        (_, label, _) => label,
-    };
-    let source = match (&reference, label) {
-        (Some(r), label) => StyleSource::Motion { motion: &r.motion, label },
-        (None, Some(label)) => StyleSource::Label(label),
-        (None, None) => StyleSource::Prior,
-    };
-    let request = Request {
+    let request = |source| Request {
         source,
         setting,
         samples: args.samples,
@@ -200,7 +258,31 @@ pub fn run(args: &StylizeArgs) -> anyhow::Result<()> {
         temperature: args.temperature,
         strength: args.strength,
     };
-    let job = Job { args, weights: &weights, request: &request, map: map.as_ref() };
+    let main_resolved = main.as_ref().map(|m| resolve_style(m, &weights, setting)).transpose()?.flatten();
+    let part_resolved: Vec<_> = BodyPart::ALL
+        .iter()
+        .map(|&part| match parts.iter().rev().find(|(p, _)| *p == part) {
+            Some((_, style)) => resolve_style(style, &weights, setting),
+            None => Ok(None),
+        })
+        .collect::<anyhow::Result<_>>()?;
+    let mut part_requests = PartRequests::default();
+    for (i, &part) in BodyPart::ALL.iter().enumerate() {
+        let given = parts.iter().any(|(p, _)| *p == part);
+        let resolved = if given { part_resolved[i].as_ref() } else { main_resolved.as_ref() };
+        if let Some(resolved) = resolved {
+            part_requests.set(part, request(source_of(resolved)));
+        }
+    }
+    let whole = match &main_resolved {
+        Some(resolved) if parts.is_empty() => Some(request(source_of(resolved))),
+        _ => None,
+    };
+    let plan = match &whole {
+        Some(request) => Plan::Whole(request),
+        None => Plan::Parts(&part_requests),
+    };
+    let job = Job { args, weights: &weights, plan, map: map.as_ref() };
     let batch = args.content.len() > 1 || args.content.iter().any(|c| c.is_dir());
     if !batch {
         return job.one(&args.content[0], &args.output, true);
@@ -247,8 +329,14 @@ pub fn run(args: &StylizeArgs) -> anyhow::Result<()> {
 struct Job<'a> {
     args: &'a StylizeArgs,
     weights: &'a Weights,
-    request: &'a Request<'a>,
+    plan: Plan<'a>,
     map: Option<&'a skeleton::ManualMap>,
+}
+
+/// One style for the whole body, or one per body part.
+enum Plan<'a> {
+    Whole(&'a Request<'a>),
+    Parts(&'a PartRequests<'a>),
 }
 
 impl Job<'_> {
@@ -257,7 +345,10 @@ impl Job<'_> {
     fn one(&self, content_path: &Path, output: &Path, report: bool) -> anyhow::Result<()> {
         let args = self.args;
         let content = import(content_path, self.map)?;
-        let motions = stylize::stylize(self.weights, &content.motion, self.request)?;
+        let motions = match self.plan {
+            Plan::Whole(request) => stylize::stylize(self.weights, &content.motion, request)?,
+            Plan::Parts(parts) => stylize::stylize_parts(self.weights, &content.motion, parts)?,
+        };
         let outputs: Vec<_> =
             motions.iter().map(|m| if args.canonical { m.to_bvh() } else { content.rig.from_canonical(m) }).collect();
         let rig = || if args.canonical { Rig::Canonical } else { Rig::User(content.rig.report()) };
@@ -275,7 +366,7 @@ impl Job<'_> {
                     } else {
                         format!("{} rig", content.rig.report().rig)
                     },
-                    self.request.setting
+                    if args.unsupervised { Setting::Unsupervised } else { Setting::Supervised }
                 );
             }
         }

@@ -48,6 +48,9 @@ pub enum StylizeError {
     /// A style strength that is not a finite number in [0, max].
     #[error("strength must be between 0 and {max}, got {got}")]
     Strength { got: f32, max: f32 },
+    /// Per-body-part requests that cannot be combined (none given, sample counts that differ).
+    #[error("body parts: {0}")]
+    Parts(String),
     /// Style mixes nested deeper than the limit.
     #[error("style mixes are nested deeper than {max}")]
     MixTooDeep { max: usize },
@@ -71,7 +74,7 @@ pub enum StylizeError {
 impl StylizeError {
     /// A stable, machine-readable name of the failure class (the npm package's `error.code`):
     /// `UNKNOWN_LABEL`, `SETTING_UNAVAILABLE`, `BAD_REQUEST` (a request the model cannot serve:
-    /// samples, temperature, strength, mix weight or depth, a label where none fits or none where one is needed),
+    /// samples, temperature, strength, mix weight or depth, body parts, a label where none fits or none where one is needed),
     /// `TOO_LONG`, `BAD_WEIGHTS`, `MODEL_OUTPUT`, `INTERNAL`, or the import's code
     /// ([`ImportError::code`]).
     pub fn code(&self) -> &'static str {
@@ -86,7 +89,8 @@ impl StylizeError {
             | MixWeight { .. }
             | MixTooDeep { .. }
             | Temperature { .. }
-            | Strength { .. } => "BAD_REQUEST",
+            | Strength { .. }
+            | Parts(_) => "BAD_REQUEST",
             TooLong { .. } => "TOO_LONG",
             BadWeights(_) | Read { .. } => "BAD_WEIGHTS",
             Import(e) => e.code(),

@@ -46,6 +46,8 @@
 //! - **Label codes.** Label-based codes are drawn around the label's centre in the style space
 //!   (the mean posterior of its training takes, [`Manifest`]'s `label_codes`), not around 0:
 //!   `centre + temperature · N(0, I)`; weights without label codes draw around 0.
+//! - **Body parts.** [`stylize_parts`] gives the lower body, the upper body and the head each
+//!   their own request and combines the outputs joint by joint ([`parts`]).
 //! - **Mix.** [`StyleSource::Mix`] lerps two sources' style codes (and one-hot labels).
 //! - **Root.** Angular velocity from the content, ground velocity from the global motion
 //!   regressor on the generated motion, height from the decoder (paper §3.3); the output starts
@@ -59,11 +61,13 @@ pub mod error;
 pub mod feet;
 pub mod legs;
 pub mod manifest;
+pub mod parts;
 pub mod pipeline;
 pub mod source;
 pub mod weights;
 
 pub use error::StylizeError;
+pub use parts::{BodyPart, PartRequests, stylize_parts};
 pub use manifest::{LabelCodes, Manifest, ModelEntry, StageRecord};
 pub use pipeline::{MAX_FRAMES, infer_label, pad_features, padded_frames, style_code_of, stylize};
 pub use source::{
