@@ -79,8 +79,9 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         weights: Option<PathBuf>,
     },
-    /// Train a stage on the Bandai-Namco data: `ae` (motion autoencoder + regressor), then
-    /// `stylizer` on its frozen autoencoder.
+    /// Train on the Bandai-Namco data or a folder of your own BVH files (labels.csv): `ae` (motion
+    /// autoencoder + regressor), then `stylizer` on its frozen autoencoder; or `all` stages and
+    /// the export in one command.
     #[cfg(feature = "model")]
     Train(train::TrainArgs),
     /// Write the shipped weights folder (manifest, norm.json, f16 bundles) from finished runs.

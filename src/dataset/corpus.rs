@@ -4,7 +4,7 @@
 //! training sees exactly what inference will. Training clips get a mirrored copy (left/right
 //! augmentation); held-out clips do not. Native only (reads the file system).
 
-use super::labels::Style;
+use super::labels::{STYLES, Style};
 use super::split::{Split, TakeId};
 use crate::features::{self, Features, NormStats};
 use crate::skeleton;
@@ -14,8 +14,14 @@ use thiserror::Error;
 /// One take (or its mirror image) as features.
 #[derive(Clone, Debug)]
 pub struct Clip {
-    pub take: TakeId,
-    pub style: Style,
+    /// The Bandai-Namco take (`None` for a file of a user's folder, [`super::folder`]).
+    pub take: Option<TakeId>,
+    /// The take's stem, or the file's path relative to the data folder.
+    pub name: String,
+    /// The content (Bandai: the take's; a folder: `labels.csv`'s `content` column, if any).
+    pub content: Option<String>,
+    /// The style label, an index into [`Corpus::labels`] (`None`: an unlabelled file).
+    pub style: Option<Style>,
     pub mirrored: bool,
     /// Raw (un-normalised) features.
     pub features: Features,
@@ -30,6 +36,9 @@ pub struct Corpus {
     pub heldout: Vec<Clip>,
     /// Takes that could not be imported, with the reason (none are expected; reported, not fatal).
     pub failed: Vec<(PathBuf, String)>,
+    /// The label set the clips' styles index, in one-hot order ([`super::STYLES`] for the
+    /// Bandai-Namco data).
+    pub labels: Vec<String>,
 }
 
 #[derive(Debug, Error)]
@@ -68,21 +77,56 @@ pub fn load(
     data: &Path,
     split: &Split,
     threads: usize,
-    mut progress: impl FnMut(usize, usize),
+    progress: impl FnMut(usize, usize),
 ) -> Result<Corpus, CorpusError> {
     let takes = list_takes(data)?;
-    let total = takes.len();
+    let paths: Vec<PathBuf> = takes.iter().map(|t| t.1.clone()).collect();
+    let results = par_map(&paths, threads, |p| load_one(p), progress);
+    let mut corpus = Corpus { labels: STYLES.iter().map(|s| s.to_string()).collect(), ..Corpus::default() };
+    for ((take, path), r) in takes.into_iter().zip(results) {
+        let clip = |take: &TakeId, mirrored: bool, features: Features| Clip {
+            take: Some(take.clone()),
+            name: take.stem(),
+            content: Some(take.content.clone()),
+            style: Some(take.style()),
+            mirrored,
+            features,
+        };
+        match r {
+            Ok(f) if split.is_heldout(&take) => corpus.heldout.push(clip(&take, false, f)),
+            Ok(f) => {
+                let m = features::mirror(&f);
+                corpus.train.push(clip(&take, false, f));
+                corpus.train.push(clip(&take, true, m));
+            }
+            Err(e) => corpus.failed.push((path, e)),
+        }
+    }
+    if corpus.train.is_empty() {
+        return Err(CorpusError::Empty(data.to_path_buf()));
+    }
+    Ok(corpus)
+}
+
+/// `f` over `items` on `threads` threads (1-64); `progress(done, total)` from the calling thread as
+/// items finish. Results in `items` order.
+pub fn par_map<T: Sync, R: Send>(
+    items: &[T],
+    threads: usize,
+    f: impl Fn(&T) -> Result<R, String> + Sync,
+    mut progress: impl FnMut(usize, usize),
+) -> Vec<Result<R, String>> {
+    let total = items.len();
     let threads = threads.clamp(1, 64);
     let (tx, rx) = std::sync::mpsc::channel();
-    let mut results: Vec<Option<Result<Features, String>>> = vec![None; total];
+    let mut results: Vec<Option<Result<R, String>>> = (0..total).map(|_| None).collect();
     std::thread::scope(|scope| {
         for worker in 0..threads {
             let tx = tx.clone();
-            let takes = &takes;
+            let f = &f;
             scope.spawn(move || {
-                for i in (worker..takes.len()).step_by(threads) {
-                    let r = load_one(&takes[i].1);
-                    if tx.send((i, r)).is_err() {
+                for i in (worker..items.len()).step_by(threads) {
+                    if tx.send((i, f(&items[i]))).is_err() {
                         return;
                     }
                 }
@@ -94,26 +138,7 @@ pub fn load(
             progress(done + 1, total);
         }
     });
-    let mut corpus = Corpus::default();
-    for ((take, path), r) in takes.into_iter().zip(results) {
-        let style = take.style();
-        match r {
-            Some(Ok(f)) if split.is_heldout(&take) => {
-                corpus.heldout.push(Clip { take, style, mirrored: false, features: f });
-            }
-            Some(Ok(f)) => {
-                let m = features::mirror(&f);
-                corpus.train.push(Clip { take: take.clone(), style, mirrored: false, features: f });
-                corpus.train.push(Clip { take, style, mirrored: true, features: m });
-            }
-            Some(Err(e)) => corpus.failed.push((path, e)),
-            None => corpus.failed.push((path, "not loaded".into())),
-        }
-    }
-    if corpus.train.is_empty() {
-        return Err(CorpusError::Empty(data.to_path_buf()));
-    }
-    Ok(corpus)
+    results.into_iter().map(|r| r.unwrap_or_else(|| Err("not loaded".into()))).collect()
 }
 
 fn load_one(path: &Path) -> Result<Features, String> {

@@ -329,7 +329,9 @@ pub fn parse_manifest(json: &[u8]) -> Result<Manifest, StylizeError> {
             manifest::FORMATS
         )));
     }
-    if manifest.styles.is_empty() || manifest.styles.len() > usize::from(u8::MAX) + 1 {
+    // Weights trained on a folder without labels have no supervised model and no labels.
+    let supervised = manifest.models.iter().any(|m| Setting::from_name(&m.setting) == Some(Setting::Supervised));
+    if (manifest.styles.is_empty() && supervised) || manifest.styles.len() > usize::from(u8::MAX) + 1 {
         return Err(bad(format!("the manifest lists {} style labels", manifest.styles.len())));
     }
     if manifest.format >= 2 {

@@ -10,8 +10,10 @@ use super::rundir::RunConfig;
 use super::sampler::WindowSampler;
 use super::settings::TrainOptions;
 use crate::dataset::corpus::{self, Clip};
-use crate::dataset::{CONTENTS, STYLES, Split, content_class};
+use crate::dataset::folder::{self, FolderListing};
+use crate::dataset::{CONTENTS, Split, content_class};
 use crate::features::{Features, NormStats};
+use std::collections::BTreeSet;
 
 /// Everything a trainer draws its batches from and evaluates on.
 pub struct TrainData {
@@ -45,7 +47,8 @@ fn normalized(clips: &[Clip], norm: &NormStats) -> Vec<Features> {
 }
 
 impl TrainData {
-    /// Loads the takes of `opts.data`, split by the run's split file; `norm` is the run's
+    /// Loads the takes of `opts.data` (the Bandai-Namco layout, split by the run's split file, or a
+    /// folder of the user's files with the run's held-out files); `norm` is the run's
     /// statistics (`None`: computed from the training clips). Fills in `config`'s counts and says
     /// what was loaded through `say`.
     pub fn load(
@@ -56,17 +59,35 @@ impl TrainData {
         say: &dyn Fn(String),
     ) -> anyhow::Result<TrainData> {
         let t_load = Instant::now();
-        let split_text = std::fs::read_to_string(&config.split)
-            .with_context(|| format!("cannot read the split file {} (--split)", config.split))?;
-        let split = Split::parse(&split_text).with_context(|| format!("split file {}", config.split))?;
         let mut last_report = Instant::now();
-        let corpus = corpus::load(&opts.data, &split, opts.loader_threads(), |done, total| {
+        let loading = |done: usize, total: usize| {
             if done == total || last_report.elapsed().as_secs_f64() > 5.0 {
                 say(format!("loading takes: {done}/{total}"));
                 last_report = Instant::now();
             }
-        })
-        .with_context(|| format!("cannot load the data in {}", opts.data.display()))?;
+        };
+        let corpus = match &config.folder {
+            None => {
+                let split_text = std::fs::read_to_string(&config.split)
+                    .with_context(|| format!("cannot read the split file {} (--split)", config.split))?;
+                let split = Split::parse(&split_text).with_context(|| format!("split file {}", config.split))?;
+                corpus::load(&opts.data, &split, opts.loader_threads(), loading)
+                    .with_context(|| format!("cannot load the data in {}", opts.data.display()))?
+            }
+            Some(run_folder) => {
+                let read = FolderListing::read(&opts.data)?;
+                let listing = read.relabelled(&run_folder.labels).with_context(|| {
+                    format!(
+                        "{}: labels.csv has labels ({}) the run does not know ({}): a run keeps its label set",
+                        opts.data.display(),
+                        read.labels.names.join(", "),
+                        run_folder.labels.join(", ")
+                    )
+                })?;
+                let heldout: BTreeSet<String> = run_folder.heldout.iter().cloned().collect();
+                folder::load(&opts.data, &listing, &heldout, opts.loader_threads(), loading)?.0
+            }
+        };
         for (path, why) in &corpus.failed {
             eprintln!("warning: skipped {}: {why}", path.display());
         }
@@ -75,15 +96,37 @@ impl TrainData {
             None => corpus.norm_stats().context("normalisation statistics")?,
         };
         let window = config.settings.window;
-        // The class each clip is balanced and judged by.
+        // The class each clip is balanced and judged by; unlabelled clips (a folder's) are one
+        // more class after the labels, and only in the stages that train without labels.
         let contents = config.stage == "content-classifier";
-        let class = |c: &Clip| if contents { content_class(&c.take.content) } else { Some(c.style.index()) };
-        let (train, heldout_clips): (Vec<Clip>, Vec<Clip>) = if contents {
-            let keep = |v: &[Clip]| v.iter().filter(|c| class(c).is_some()).cloned().collect::<Vec<_>>();
-            (keep(&corpus.train), keep(&corpus.heldout))
-        } else {
-            (corpus.train.clone(), corpus.heldout.clone())
+        let needs_labels =
+            config.stage == "classifier" || (config.stage == "stylizer" && config.supervised == Some(true));
+        let unlabelled = corpus.labels.len();
+        let class = |c: &Clip| {
+            if contents {
+                c.content.as_deref().and_then(content_class)
+            } else {
+                match c.style {
+                    Some(s) => Some(s.index()),
+                    None if needs_labels => None,
+                    None => Some(unlabelled),
+                }
+            }
         };
+        let keep = |v: &[Clip]| v.iter().filter(|c| class(c).is_some()).cloned().collect::<Vec<_>>();
+        let train = keep(&corpus.train);
+        ensure!(
+            !train.is_empty(),
+            "{}: no training clip for the {} stage (it trains on labelled files: labels.csv)",
+            opts.data.display(),
+            config.stage
+        );
+        let mut heldout_clips = keep(&corpus.heldout);
+        if heldout_clips.is_empty() && config.folder.is_some() {
+            say("no held-out files (a label needs 5 files before one is held out): evaluating on the training files"
+                .to_string());
+            heldout_clips = train.iter().filter(|c| !c.mirrored).cloned().collect();
+        }
         let clips = normalized(&train, &norm);
         let labels: Vec<usize> = train.iter().filter_map(class).collect();
         let frames: Vec<usize> = clips.iter().map(Features::frames).collect();
@@ -122,7 +165,8 @@ impl TrainData {
             let names: Vec<String> = sampler.styles().iter().map(|(s, n)| format!("{} {n}", CONTENTS[*s])).collect();
             say(format!("content classes (clips): {}", names.join(", ")));
         } else if config.stage != "ae" {
-            let names: Vec<String> = sampler.styles().iter().map(|(s, n)| format!("{} {n}", STYLES[*s])).collect();
+            let name = |s: usize| corpus.labels.get(s).map_or("unlabelled", String::as_str);
+            let names: Vec<String> = sampler.styles().iter().map(|(s, n)| format!("{} {n}", name(*s))).collect();
             say(format!("styles (clips): {}", names.join(", ")));
         }
         Ok(TrainData {

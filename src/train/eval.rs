@@ -81,7 +81,7 @@ impl HeldoutSet {
             set.raw.push(raw);
             let first = normalized_clip(c.features.slice(0, window));
             let last = normalized_clip(c.features.slice(n - window, n));
-            set.pairs.push((first, last, c.style.index()));
+            set.pairs.push((first, last, c.style.map_or(0, |s| s.index())));
         }
         set
     }

@@ -53,8 +53,25 @@ pub const LICENCE: &str = "CC BY-NC 4.0 (trained on the Bandai-Namco Research Mo
 /// Rows of `loss.csv` averaged for the final losses.
 const FINAL_ROWS: usize = 100;
 
+/// Licence of weights exported from a folder of the user's own files.
+pub const FOLDER_LICENCE: &str = "the licence of the training data (your own files); code MIT OR Apache-2.0";
+
 /// Writes the weights folder `out` from the runs; returns the manifest written.
 pub fn export(sup: &Path, unsup: &Path, ae: &Path, out: &Path, encodings: Encodings) -> anyhow::Result<Manifest> {
+    export_runs(ae, Some(sup), Some(unsup), out, encodings)
+}
+
+/// [`export`] with either stylizer run optional (at least one): a folder without labels has no
+/// supervised model. The labels come from the stylizer runs (the Bandai-Namco label set, or a
+/// folder's).
+pub fn export_runs(
+    ae: &Path,
+    sup: Option<&Path>,
+    unsup: Option<&Path>,
+    out: &Path,
+    encodings: Encodings,
+) -> anyhow::Result<Manifest> {
+    ensure!(sup.is_some() || unsup.is_some(), "nothing to export: neither a supervised nor an unsupervised run");
     let ae_config: RunConfig = rundir::read_json(&ae.join(rundir::CONFIG))
         .with_context(|| format!("--ae {}: not a training run folder", ae.display()))?;
     ensure!(ae_config.stage == "ae", "--ae {}: a {} run, not an `ae` run", ae.display(), ae_config.stage);
@@ -66,7 +83,9 @@ pub fn export(sup: &Path, unsup: &Path, ae: &Path, out: &Path, encodings: Encodi
     let mut window = None;
     let mut split = None;
     let mut ae_weights: Option<Vec<u8>> = None;
-    for (setting, dir, supervised) in [("supervised", sup, true), ("unsupervised", unsup, false)] {
+    let mut labels: Option<Vec<String>> = None;
+    let runs = [("supervised", sup, true), ("unsupervised", unsup, false)];
+    for (setting, dir, supervised) in runs.into_iter().filter_map(|(s, d, sup)| d.map(|d| (s, d, sup))) {
         let flag = if supervised { "--sup" } else { "--unsup" };
         let config: RunConfig = rundir::read_json(&dir.join(rundir::CONFIG))
             .with_context(|| format!("{flag} {}: not a training run folder", dir.display()))?;
@@ -90,6 +109,11 @@ pub fn export(sup: &Path, unsup: &Path, ae: &Path, out: &Path, encodings: Encodi
         }
         window = Some(config.settings.window);
         split.get_or_insert_with(|| config.split.clone());
+        match &labels {
+            Some(l) if *l != config.labels() => bail!("the stylizer runs were trained on different label sets"),
+            Some(_) => {}
+            None => labels = Some(config.labels()),
+        }
         let ckpt = Checkpoint::read(&dir.join(rundir::CHECKPOINT))?;
         let ae_ckpt = Checkpoint::read(&dir.join(rundir::AE_COPY))?;
         match &ae_weights {
@@ -129,16 +153,34 @@ pub fn export(sup: &Path, unsup: &Path, ae: &Path, out: &Path, encodings: Encodi
         });
     }
 
-    let split = split.expect("two runs");
-    let split_text =
-        std::fs::read_to_string(&split).with_context(|| format!("cannot read the runs' split file {split}"))?;
-    let heldout_takes = Split::parse(&split_text).with_context(|| format!("split file {split}"))?.len();
+    let (split, heldout_takes, licence) = match &ae_config.folder {
+        Some(folder) => (
+            "labels.csv folder: held-out files chosen by dataset::folder".to_string(),
+            folder.heldout.len(),
+            FOLDER_LICENCE.to_string(),
+        ),
+        None => {
+            let split = split.context("a stylizer run")?;
+            let split_text =
+                std::fs::read_to_string(&split).with_context(|| format!("cannot read the runs' split file {split}"))?;
+            let heldout = Split::parse(&split_text).with_context(|| format!("split file {split}"))?.len();
+            (split, heldout, LICENCE.to_string())
+        }
+    };
+    // Fine-tuned weights carry the licence of the weights they started from too.
+    let licence = match ae_config.from.as_deref().map(|f| Path::new(f).join("manifest.json")) {
+        Some(path) => match rundir::read_json::<Manifest>(&path) {
+            Ok(old) if old.licence != licence => format!("{licence}; fine-tuned from weights under: {}", old.licence),
+            _ => licence,
+        },
+        None => licence,
+    };
     let manifest = Manifest {
         format: FORMAT,
-        licence: LICENCE.into(),
-        styles: STYLES.iter().map(|s| s.to_string()).collect(),
+        licence,
+        styles: labels.unwrap_or_else(|| STYLES.iter().map(|s| s.to_string()).collect()),
         norm: rundir::NORM.into(),
-        window: window.expect("two runs"),
+        window: window.context("a stylizer run")?,
         split,
         heldout_takes,
         norm_bytes: None,

@@ -12,8 +12,17 @@
 use anyhow::{Context, ensure};
 
 use crate::Motion;
-use crate::dataset::{STYLES, TakeId};
+use crate::dataset::{STYLES, Style, TakeId};
 use crate::stylize::{LabelCodes, Setting, Weights, style_code_of};
+
+/// One training motion for [`label_codes_of`]: its label and the group it is weighed in (the
+/// Bandai data sets; a folder of one's own files is one group).
+pub struct LabelledMotion<'a> {
+    pub name: String,
+    pub group: usize,
+    pub style: Style,
+    pub motion: &'a Motion,
+}
 
 /// The label codes of `weights`' supervised model from the training `takes`; `command` is
 /// recorded with them. `progress(done, total)` after each take.
@@ -21,32 +30,59 @@ pub fn label_codes(
     weights: &Weights,
     takes: &[(TakeId, &Motion)],
     command: String,
+    progress: impl FnMut(usize, usize),
+) -> anyhow::Result<LabelCodes> {
+    let model = weights.model(Setting::Supervised)?;
+    let labels = model.config.num_styles;
+    ensure!(labels == STYLES.len(), "the supervised model knows {labels} labels, the data {}", STYLES.len());
+    let items: Vec<LabelledMotion> = takes
+        .iter()
+        .map(|(take, motion)| LabelledMotion {
+            name: take.stem(),
+            group: usize::from(take.set),
+            style: take.style(),
+            motion,
+        })
+        .collect();
+    for label in 0..labels {
+        ensure!(items.iter().any(|m| m.style.index() == label), "no training take of the label {}", STYLES[label]);
+    }
+    label_codes_of(weights, &items, command, progress)
+}
+
+/// The label codes of `weights`' supervised model from labelled training motions: per label, the
+/// mean over the groups that have it of the group's mean posterior mean. A label without any
+/// motion gets the prior's mean (0) and a count of 0.
+pub fn label_codes_of(
+    weights: &Weights,
+    items: &[LabelledMotion<'_>],
+    command: String,
     mut progress: impl FnMut(usize, usize),
 ) -> anyhow::Result<LabelCodes> {
     let model = weights.model(Setting::Supervised)?;
     let (labels, dim) = (model.config.num_styles, model.config.style_dim);
-    ensure!(labels == STYLES.len(), "the supervised model knows {labels} labels, the data {}", STYLES.len());
-    // Sums and counts per (set, label).
-    let sets = [1u8, 2];
-    let mut sums = vec![vec![0.0f64; dim]; sets.len() * labels];
-    let mut counts = vec![0usize; sets.len() * labels];
-    for (i, (take, motion)) in takes.iter().enumerate() {
-        let style = take.style();
-        let code = style_code_of(weights, Setting::Supervised, motion, Some(style))
-            .with_context(|| format!("encoding {}", take.stem()))?;
-        let set = sets.iter().position(|&s| s == take.set).context("a take of neither set")?;
-        let slot = set * labels + style.index();
+    let mut groups: Vec<usize> = items.iter().map(|m| m.group).collect();
+    groups.sort_unstable();
+    groups.dedup();
+    // Sums and counts per (group, label).
+    let mut sums = vec![vec![0.0f64; dim]; groups.len() * labels];
+    let mut counts = vec![0usize; groups.len() * labels];
+    for (i, item) in items.iter().enumerate() {
+        ensure!(item.style.index() < labels, "{}: label {} out of range {labels}", item.name, item.style.index());
+        let code = style_code_of(weights, Setting::Supervised, item.motion, Some(item.style))
+            .with_context(|| format!("encoding {}", item.name))?;
+        let group = groups.binary_search(&item.group).unwrap_or(0);
+        let slot = group * labels + item.style.index();
         for (s, c) in sums[slot].iter_mut().zip(&code) {
             *s += f64::from(*c);
         }
         counts[slot] += 1;
-        progress(i + 1, takes.len());
+        progress(i + 1, items.len());
     }
     let mut codes = Vec::with_capacity(labels);
     let mut takes_per_label = Vec::with_capacity(labels);
     for label in 0..labels {
-        let present: Vec<usize> = (0..sets.len()).filter(|&s| counts[s * labels + label] > 0).collect();
-        ensure!(!present.is_empty(), "no training take of the label {}", STYLES[label]);
+        let present: Vec<usize> = (0..groups.len()).filter(|&s| counts[s * labels + label] > 0).collect();
         let mut centre = vec![0.0f64; dim];
         for &s in &present {
             let n = counts[s * labels + label] as f64;

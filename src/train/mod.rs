@@ -1,6 +1,8 @@
-//! Training runs on the Bandai-Namco data (native only): `motion-stylizer train
-//! ae|stylizer|classifier|content-classifier`
-//! and `motion-stylizer export`.
+//! Training runs (native only): `motion-stylizer train
+//! ae|stylizer|classifier|content-classifier|all` and `motion-stylizer export`, on the Bandai-Namco
+//! data or on a folder of one's own BVH files with a `labels.csv` ([`crate::dataset::folder`]; the
+//! run keeps the folder's label set and held-out files in its `config.json`). [`all`] runs every
+//! stage and the export in one command.
 //!
 //! Two stages, as the paper: [`Stage::Ae`] trains the motion autoencoder and the global motion
 //! regressor ([`AeTrainer`]) on random windows of the training takes; [`Stage::Stylizer`] trains
@@ -44,10 +46,12 @@
 //! [`corpus::load`]: crate::dataset::corpus::load
 
 pub mod ae;
+pub mod all;
 pub mod classifier;
 pub mod data;
 pub mod eval;
 pub mod export;
+pub mod finetune;
 pub mod label_codes;
 pub mod logs;
 pub mod losses;
@@ -60,6 +64,7 @@ pub mod settings;
 pub mod stylizer;
 pub mod trainer;
 
+use crate::stylize::Setting;
 use anyhow::Context;
 use burn::prelude::*;
 use std::path::PathBuf;
@@ -157,18 +162,62 @@ pub fn train(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<TrainSummary>
     let config = &run.config;
     let (model, train) = (config.model.clone(), config.train.clone());
     let seed = seed_for_segment(config.settings.seed, start_step);
+    // Fine-tuning: a run's first segment starts from the weights folder's networks.
+    let from = config.from.as_deref().filter(|_| start_step == 0).map(std::path::Path::new);
+    let report_grown = |grown: Vec<String>| {
+        if !grown.is_empty() {
+            say(format!("grown for the new labels: {}", grown.join(", ")));
+        }
+    };
     match stage {
-        Stage::Ae => runner::run(AeTrainer::new(model, train, &device, seed), &data, config, opts, start, &say),
+        Stage::Ae => {
+            let mut trainer = AeTrainer::new(model, train, &device, seed);
+            if let Some(dir) = from {
+                let m = finetune::load_model(dir, None)?;
+                let (nets, grown) = finetune::grow(
+                    &AeNets { autoencoder: m.autoencoder, regressor: m.regressor },
+                    AeNets {
+                        autoencoder: trainer.autoencoder.clone().valid(),
+                        regressor: trainer.regressor.clone().valid(),
+                    },
+                )?;
+                report_grown(grown);
+                trainer.load_weights(&rundir::module_bytes(nets)?)?;
+                say(format!("autoencoder and regressor start from {}", dir.display()));
+            }
+            runner::run(trainer, &data, config, opts, start, &say)
+        }
         Stage::Stylizer { .. } => {
             let ae =
                 run.ae.as_ref().with_context(|| format!("{} holds no autoencoder ({AE_COPY})", opts.out.display()))?;
             let nets = load_module(AeNets::new(&model, &device), &ae.weights)
                 .context("the autoencoder checkpoint does not fit the run's configuration")?;
-            let trainer = StylizerTrainer::new(model, train, nets.autoencoder, &device, seed);
+            let supervised = model.supervised;
+            let mut trainer = StylizerTrainer::new(model, train, nets.autoencoder, &device, seed);
+            if let Some(dir) = from {
+                let setting = if supervised { Setting::Supervised } else { Setting::Unsupervised };
+                let m = finetune::load_model(dir, Some(setting))?;
+                let (net, grown) = finetune::grow(&m.stylizer, trainer.net.clone().valid())?;
+                report_grown(grown);
+                trainer.load_weights(&rundir::module_bytes(net)?)?;
+                say(format!("the {setting} stylizer starts from {}", dir.display()));
+            }
             runner::run(trainer, &data, config, opts, start, &say)
         }
         Stage::Classifier | Stage::ContentClassifier => {
-            runner::run(ClassifierTrainer::new(model, train, &device, seed), &data, config, opts, start, &say)
+            let mut trainer = ClassifierTrainer::new(model, train, &device, seed);
+            if let Some(dir) = from.filter(|_| *stage == Stage::Classifier) {
+                match finetune::load_old_classifier(dir)? {
+                    Some((_, old)) => {
+                        let (net, grown) = finetune::grow(&old, trainer.classifier.clone().valid())?;
+                        report_grown(grown);
+                        trainer.load_weights(&rundir::module_bytes(net)?)?;
+                        say(format!("the classifier starts from {}", dir.display()));
+                    }
+                    None => say(format!("{} has no classifier.bin: the classifier starts fresh", dir.display())),
+                }
+            }
+            runner::run(trainer, &data, config, opts, start, &say)
         }
     }
 }

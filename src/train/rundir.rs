@@ -23,9 +23,11 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use super::Stage;
+use super::finetune;
 pub use super::logs::{CsvLog, CsvTable, RunLog, Segment, machine_description, unix_now};
 use super::sampler::RngState;
 use super::settings::{Settings, TrainConfig, TrainOptions};
+use crate::dataset::folder::{self, FolderListing};
 use crate::dataset::{CONTENTS, STYLES};
 use crate::features::NormStats;
 use crate::model::ModelConfig;
@@ -68,6 +70,43 @@ pub struct RunConfig {
     pub train_clips_skipped: usize,
     pub eval_windows: usize,
     pub heldout_skipped: usize,
+    /// Data from a folder of the user's files ([`crate::dataset::folder`]); `None`: the
+    /// Bandai-Namco layout (labels [`STYLES`], held-out takes from `split`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub folder: Option<FolderData>,
+    /// Fine-tuning: the weights folder the networks started from (as given).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub from: Option<String>,
+}
+
+/// What a run on a folder of the user's files fixes at its start.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FolderData {
+    /// The label set of `labels.csv`, in one-hot order.
+    pub labels: Vec<String>,
+    /// The held-out files (relative paths).
+    pub heldout: Vec<String>,
+}
+
+impl RunConfig {
+    /// The label set the run's labels index, in one-hot order.
+    pub fn labels(&self) -> Vec<String> {
+        match &self.folder {
+            Some(f) => f.labels.clone(),
+            None => STYLES.iter().map(|s| s.to_string()).collect(),
+        }
+    }
+}
+
+/// The data of `dir` at the start of a run: `None` for the Bandai-Namco layout, else the folder's
+/// label set and held-out files.
+pub fn folder_data(dir: &Path) -> anyhow::Result<Option<FolderData>> {
+    if folder::is_bandai_layout(dir) {
+        return Ok(None);
+    }
+    let listing = FolderListing::read(dir)?;
+    let heldout = folder::choose_heldout(&listing);
+    Ok(Some(FolderData { labels: listing.labels.names, heldout }))
 }
 
 /// What a checkpoint holds besides the network weights.
@@ -216,6 +255,14 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
             );
         }
         opts.settings.check_same(&config.settings)?;
+        if let Some(from) = &opts.from
+            && config.from.as_deref() != Some(from.display().to_string().as_str())
+        {
+            bail!(
+                "--from {}: the run did not start from these weights (a resumed run keeps its start)",
+                from.display()
+            );
+        }
         let ckpt_path = out.join(CHECKPOINT);
         let resume_from = if ckpt_path.exists() { Some(Checkpoint::read(&ckpt_path)?) } else { None };
         let ae = if config.stage == "stylizer" { Some(Checkpoint::read(&out.join(AE_COPY))?) } else { None };
@@ -227,11 +274,45 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
         "{} exists and is not empty: pass --resume to continue that run, or choose another --out",
         out.display()
     );
-    let settings = opts.settings.over(Settings::default());
+    let mut settings = opts.settings.over(Settings::default());
+    let mut folder = folder_data(&opts.data)?;
+    let from = opts.from.as_deref().map(finetune::read_from).transpose()?;
+    if let Some(f) = &from {
+        match &mut folder {
+            Some(data) => data.labels = finetune::merged_labels(&f.labels, &data.labels),
+            None => ensure!(
+                f.labels.iter().map(String::as_str).eq(STYLES),
+                "--from: fine-tuning on the Bandai-Namco data needs weights with its label set"
+            ),
+        }
+        if let Some(w) = opts.settings.width
+            && w != f.width
+        {
+            bail!("--width {w} differs from the width {} of the weights to start from (--from)", f.width);
+        }
+        settings.width = f.width;
+    }
+    let labels = folder.as_ref().map_or(STYLES.len(), |f| f.labels.len());
+    // Networks need at least one class (an unlabelled folder: only the unsupervised stages run).
+    let classes = labels.max(1);
+    let needs_labels = matches!(stage, Stage::Classifier | Stage::Stylizer { supervised: true, .. });
+    if needs_labels && labels == 0 {
+        bail!(
+            "{}: the {} stage needs labelled files, and the folder has no labels.csv or it labels none",
+            opts.data.display(),
+            if matches!(stage, Stage::Classifier) { "classifier" } else { "supervised stylizer" }
+        );
+    }
     let base = RunConfig {
         stage: stage.name().into(),
         supervised: None,
-        model: ModelConfig::scaled(settings.width).with_num_styles(STYLES.len()),
+        model: match &from {
+            Some(f) if matches!(stage, Stage::Classifier) => {
+                f.classifier.clone().unwrap_or_else(|| ModelConfig::scaled(f.width)).with_num_styles(classes)
+            }
+            Some(f) => f.config.clone().with_num_styles(classes),
+            None => ModelConfig::scaled(settings.width).with_num_styles(classes),
+        },
         settings,
         train: TrainConfig::default(),
         split: opts.split.display().to_string(),
@@ -242,7 +323,10 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
         train_clips_skipped: 0,
         eval_windows: 0,
         heldout_skipped: 0,
+        folder,
+        from: opts.from.as_ref().map(|p| p.display().to_string()),
     };
+    let start_norm = from.map(|f| f.norm);
     Ok(match stage {
         Stage::Ae => OpenRun {
             config: RunConfig {
@@ -251,7 +335,7 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
             },
             resume_from: None,
             ae: None,
-            norm: None,
+            norm: start_norm,
         },
         Stage::Classifier => OpenRun {
             config: RunConfig {
@@ -260,7 +344,7 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
             },
             resume_from: None,
             ae: None,
-            norm: None,
+            norm: start_norm,
         },
         Stage::ContentClassifier => OpenRun {
             config: RunConfig {
@@ -281,7 +365,12 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
             {
                 bail!("--width {w} differs from the autoencoder run's {}", ae_config.settings.width);
             }
-            if opts.split.display().to_string() != ae_config.split {
+            ensure!(
+                ae_config.folder.as_ref().map(|f| &f.heldout) == base.folder.as_ref().map(|f| &f.heldout),
+                "--ae {}: the autoencoder run was trained on other data (its held-out files differ)",
+                ae.display()
+            );
+            if base.folder.is_none() && opts.split.display().to_string() != ae_config.split {
                 eprintln!(
                     "warning: split {} differs from the autoencoder run's {}",
                     opts.split.display(),
@@ -291,7 +380,7 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
             let config = RunConfig {
                 supervised: Some(*supervised),
                 settings: Settings { width: ae_config.settings.width, ..base.settings.clone() },
-                model: ae_config.model.clone().with_supervised(*supervised).with_num_styles(STYLES.len()),
+                model: ae_config.model.clone().with_supervised(*supervised).with_num_styles(classes),
                 ae_run: Some(ae.display().to_string()),
                 ae_step: Some(ae_ckpt.meta.step),
                 sampler: "style-balanced: a style uniformly, a clip of it uniformly, two windows of that clip at \

@@ -111,7 +111,8 @@ pub fn check_window(window: usize) -> anyhow::Result<()> {
 /// Options of a training run: the flags of `motion-stylizer train STAGE`.
 #[derive(Args, Clone, Debug)]
 pub struct TrainOptions {
-    /// Folder with both archives unpacked: DIR/dataset-1, DIR/dataset-2.
+    /// The data: the Bandai-Namco archives unpacked (DIR/dataset-1, DIR/dataset-2), or any folder
+    /// of BVH files (searched recursively) with an optional labels.csv (`file,style[,content]`).
     #[arg(long, value_name = "DIR")]
     pub data: PathBuf,
     /// Run folder (must not exist or be empty, unless --resume).
@@ -120,6 +121,10 @@ pub struct TrainOptions {
     /// Continue the run in --out from its last checkpoint, with its own settings, up to --steps.
     #[arg(long)]
     pub resume: bool,
+    /// Fine-tuning: start a new run from this weights folder's networks (its width, network sizes
+    /// and normalisation statistics; labels the data adds to its label set get new rows).
+    #[arg(long, value_name = "WEIGHTS")]
+    pub from: Option<PathBuf>,
     /// Total number of steps.
     #[arg(long, default_value_t = 20_000)]
     pub steps: u64,
