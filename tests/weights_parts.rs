@@ -17,7 +17,15 @@ use stylize_support::{WALK, config, import, norm, out_dir};
 
 /// A format-1 folder whose two bundles carry the same autoencoder and regressor (as trained
 /// weights do), with different stylizers.
+/// A format-1 folder (two bundles, each with its own autoencoder and regressor), written once per
+/// test process: the tests run in parallel threads, and two writing the same files at once would
+/// read each other's half-written bundles.
 fn format1_dir() -> PathBuf {
+    static DIR: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    DIR.get_or_init(write_format1_dir).clone()
+}
+
+fn write_format1_dir() -> PathBuf {
     let dir = out_dir("parts-format1");
     let sup = MotionModel::seeded(&config(true), &Device::flex(), 11);
     let other = MotionModel::seeded(&config(false), &Device::flex(), 12);
