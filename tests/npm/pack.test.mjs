@@ -13,13 +13,19 @@ const [out] = await s.stylize(readFileSync(process.argv[2], 'utf8'), { label: 'o
 writeFileSync(process.argv[3], out.toBvh());
 `;
 
-test('npm pack installs into an empty folder and a 5-line script stylizes a BVH', () => {
+test('npm pack installs into an empty folder and a 5-line script stylizes a BVH', async (t) => {
   const packDir = tempDir('ms-pack-');
   const npm = (args, cwd) => execFileSync('npm', args, { cwd, encoding: 'utf8', stdio: ['ignore', 'pipe', 'pipe'] });
   const info = JSON.parse(npm(['pack', pkgDir, '--json', '--pack-destination', packDir], packDir))[0];
   const tarball = join(packDir, info.filename);
   console.log(`npm pack: ${info.filename}, ${(statSync(tarball).size / 1e6).toFixed(2)} MB packed, ` +
     `${(info.unpackedSize / 1e6).toFixed(2)} MB unpacked, ${info.entryCount} files`);
+  assert.ok(info.files.some((f) => f.path === 'weights/shared.bin'), 'the shared networks');
+  // Issue 17's budget: not met by the shipped f16 weights (17.7 MB), nor by the compact encoding
+  // measured (8.7 MB; EVALUATION.md, "Compact weights"). A todo, not hidden.
+  await t.test('the tarball within 8 MB', { todo: 'f16 weights (EVALUATION.md, "Compact weights")' }, () => {
+    assert.ok(statSync(tarball).size <= 8e6, `${(statSync(tarball).size / 1e6).toFixed(2)} MB`);
+  });
 
   const app = tempDir('ms-app-');
   assert.deepEqual(readdirSync(app), []);
