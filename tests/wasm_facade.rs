@@ -15,6 +15,7 @@ use wasm_bindgen_test::wasm_bindgen_test;
 
 const MANIFEST: &[u8] = include_bytes!("../assets/weights/manifest.json");
 const NORM: &[u8] = include_bytes!("../assets/weights/norm.json");
+const SHARED: &[u8] = include_bytes!("../assets/weights/shared.bin");
 const SUPERVISED: &[u8] = include_bytes!("../assets/weights/supervised.bin");
 const UNSUPERVISED: &[u8] = include_bytes!("../assets/weights/unsupervised.bin");
 
@@ -30,7 +31,7 @@ const REFERENCE: &str = include_str!("fixtures/bandai/dataset-2_walk_elderly_001
 const SMALL: &str = include_str!("fixtures/small.bvh");
 
 thread_local! {
-    static ENGINE: Engine = Engine::new(MANIFEST, NORM, Some(SUPERVISED.to_vec()), Some(UNSUPERVISED.to_vec()), "cpu")
+    static ENGINE: Engine = Engine::new(MANIFEST, NORM, Some(SHARED.to_vec()), Some(SUPERVISED.to_vec()), Some(UNSUPERVISED.to_vec()), "cpu")
         .unwrap_or_else(|e| panic!("shipped weights: {}", message(&e)));
 }
 
@@ -356,7 +357,7 @@ fn stylize_options_take_defaults_and_refuse_wrong_types() {
 #[wasm_bindgen_test]
 fn weights_that_cannot_be_used_give_bad_weights() {
     let load = |m: &[u8], n: &[u8], s: Option<&[u8]>, u: Option<&[u8]>| {
-        err_code(Engine::new(m, n, s.map(<[u8]>::to_vec), u.map(<[u8]>::to_vec), "cpu"))
+        err_code(Engine::new(m, n, Some(SHARED.to_vec()), s.map(<[u8]>::to_vec), u.map(<[u8]>::to_vec), "cpu"))
     };
     assert_eq!(load(b"{", NORM, Some(SUPERVISED), None), "BAD_WEIGHTS");
     assert_eq!(load(MANIFEST, b"[]", Some(SUPERVISED), None), "BAD_WEIGHTS");
@@ -365,13 +366,31 @@ fn weights_that_cannot_be_used_give_bad_weights() {
     assert_eq!(load(MANIFEST, NORM, Some(&SUPERVISED[..SUPERVISED.len() / 2]), None), "BAD_WEIGHTS");
     assert_eq!(load(MANIFEST, NORM, Some(b"garbage"), None), "BAD_WEIGHTS");
     assert_eq!(load(MANIFEST, NORM, Some(SUPERVISED), Some(b"")), "BAD_WEIGHTS");
-    assert_eq!(err_code(Engine::new(MANIFEST, NORM, Some(SUPERVISED.to_vec()), None, "webgpu")), "BACKEND_UNAVAILABLE");
-    // One model only: the other setting is unavailable.
-    let only = Engine::new(MANIFEST, NORM, Some(SUPERVISED.to_vec()), None, "cpu").unwrap();
+    // Format 2 without the shared networks, or with a stylizer in their place.
+    assert_eq!(err_code(Engine::new(MANIFEST, NORM, None, Some(SUPERVISED.to_vec()), None, "cpu")), "BAD_WEIGHTS");
+    assert_eq!(err_code(Engine::new(MANIFEST, NORM, Some(SUPERVISED.to_vec()), Some(SUPERVISED.to_vec()), None, "cpu")), "BAD_WEIGHTS");
+    assert_eq!(err_code(Engine::new(MANIFEST, NORM, Some(SHARED.to_vec()), Some(SUPERVISED.to_vec()), None, "webgpu")), "BACKEND_UNAVAILABLE");
+    // One model only: the other setting is unavailable until it is added.
+    let mut only = Engine::new(MANIFEST, NORM, Some(SHARED.to_vec()), Some(SUPERVISED.to_vec()), None, "cpu").unwrap();
     assert_eq!(only.settings(), ["supervised"]);
+    assert_eq!(only.listed(), ["supervised", "unsupervised"]);
     let content = import(FOREIGN[3].1);
     let r = only.stylize(&content, &StyleSpec::prior(), options(true, 1.0, JsValue::UNDEFINED, false, None));
     assert_eq!(err_code(r), "SETTING_UNAVAILABLE");
+    assert_eq!(err_code(only.add_setting("unsupervised", SUPERVISED)), "BAD_WEIGHTS");
+    assert_eq!(err_code(only.add_setting("other", UNSUPERVISED)), "BAD_REQUEST");
+    only.add_setting("unsupervised", UNSUPERVISED).unwrap();
+    assert_eq!(only.settings(), ["supervised", "unsupervised"]);
+    let lazy = only.stylize(&content, &StyleSpec::prior(), options(true, 1.0, JsValue::UNDEFINED, false, None)).unwrap();
+    let eager = ENGINE.with(|e| e.stylize(&content, &StyleSpec::prior(), options(true, 1.0, JsValue::UNDEFINED, false, None)).unwrap());
+    assert_eq!(lazy[0].to_bvh(), eager[0].to_bvh(), "a model added later gives the same bytes");
+    // The engine's manifest reader: the files to fetch.
+    let list: serde_json::Value = serde_json::from_str(&motion_stylizer::wasm::weight_file_list(MANIFEST).unwrap()).unwrap();
+    assert_eq!(list["shared"]["file"], "shared.bin");
+    assert_eq!(list["shared"]["bytes"], SHARED.len());
+    assert_eq!(list["models"][1]["setting"], "unsupervised");
+    assert_eq!(list["norm"]["bytes"], NORM.len());
+    assert_eq!(err_code(motion_stylizer::wasm::weight_file_list(b"{}")), "BAD_WEIGHTS");
 }
 
 /// The m21 walk with its frame rows' numbers (or its OFFSETs) scaled by `k`, or other header
@@ -477,7 +496,7 @@ fn hostile_inputs_give_results_or_codes_never_a_trap() {
 #[cfg(feature = "ndarray")]
 #[wasm_bindgen_test]
 fn ndarray_backend_loads_the_f16_weights_and_stylizes() {
-    let nd = Engine::new(MANIFEST, NORM, Some(SUPERVISED.to_vec()), None, "ndarray")
+    let nd = Engine::new(MANIFEST, NORM, Some(SHARED.to_vec()), Some(SUPERVISED.to_vec()), None, "ndarray")
         .unwrap_or_else(|e| panic!("{}", message(&e)));
     assert_eq!(nd.backend(), "ndarray");
     let content = import(FOREIGN[3].1);
