@@ -368,8 +368,14 @@ fn weights_that_cannot_be_used_give_bad_weights() {
     assert_eq!(load(MANIFEST, NORM, Some(SUPERVISED), Some(b"")), "BAD_WEIGHTS");
     // Format 2 without the shared networks, or with a stylizer in their place.
     assert_eq!(err_code(Engine::new(MANIFEST, NORM, None, Some(SUPERVISED.to_vec()), None, "cpu")), "BAD_WEIGHTS");
-    assert_eq!(err_code(Engine::new(MANIFEST, NORM, Some(SUPERVISED.to_vec()), Some(SUPERVISED.to_vec()), None, "cpu")), "BAD_WEIGHTS");
-    assert_eq!(err_code(Engine::new(MANIFEST, NORM, Some(SHARED.to_vec()), Some(SUPERVISED.to_vec()), None, "webgpu")), "BACKEND_UNAVAILABLE");
+    assert_eq!(
+        err_code(Engine::new(MANIFEST, NORM, Some(SUPERVISED.to_vec()), Some(SUPERVISED.to_vec()), None, "cpu")),
+        "BAD_WEIGHTS"
+    );
+    assert_eq!(
+        err_code(Engine::new(MANIFEST, NORM, Some(SHARED.to_vec()), Some(SUPERVISED.to_vec()), None, "webgpu")),
+        "BACKEND_UNAVAILABLE"
+    );
     // One model only: the other setting is unavailable until it is added.
     let mut only = Engine::new(MANIFEST, NORM, Some(SHARED.to_vec()), Some(SUPERVISED.to_vec()), None, "cpu").unwrap();
     assert_eq!(only.settings(), ["supervised"]);
@@ -381,11 +387,15 @@ fn weights_that_cannot_be_used_give_bad_weights() {
     assert_eq!(err_code(only.add_setting("other", UNSUPERVISED)), "BAD_REQUEST");
     only.add_setting("unsupervised", UNSUPERVISED).unwrap();
     assert_eq!(only.settings(), ["supervised", "unsupervised"]);
-    let lazy = only.stylize(&content, &StyleSpec::prior(), options(true, 1.0, JsValue::UNDEFINED, false, None)).unwrap();
-    let eager = ENGINE.with(|e| e.stylize(&content, &StyleSpec::prior(), options(true, 1.0, JsValue::UNDEFINED, false, None)).unwrap());
+    let lazy =
+        only.stylize(&content, &StyleSpec::prior(), options(true, 1.0, JsValue::UNDEFINED, false, None)).unwrap();
+    let eager = ENGINE.with(|e| {
+        e.stylize(&content, &StyleSpec::prior(), options(true, 1.0, JsValue::UNDEFINED, false, None)).unwrap()
+    });
     assert_eq!(lazy[0].to_bvh(), eager[0].to_bvh(), "a model added later gives the same bytes");
     // The engine's manifest reader: the files to fetch.
-    let list: serde_json::Value = serde_json::from_str(&motion_stylizer::wasm::weight_file_list(MANIFEST).unwrap()).unwrap();
+    let list: serde_json::Value =
+        serde_json::from_str(&motion_stylizer::wasm::weight_file_list(MANIFEST).unwrap()).unwrap();
     assert_eq!(list["shared"]["file"], "shared.bin");
     assert_eq!(list["shared"]["bytes"], SHARED.len());
     assert_eq!(list["models"][1]["setting"], "unsupervised");

@@ -29,10 +29,15 @@ fn write_format1_dir() -> PathBuf {
     let dir = out_dir("parts-format1");
     let sup = MotionModel::seeded(&config(true), &Device::flex(), 11);
     let other = MotionModel::seeded(&config(false), &Device::flex(), 12);
-    let unsup = MotionModel { autoencoder: sup.autoencoder.clone(), stylizer: other.stylizer, regressor: sup.regressor.clone() };
+    let unsup = MotionModel {
+        autoencoder: sup.autoencoder.clone(),
+        stylizer: other.stylizer,
+        regressor: sup.regressor.clone(),
+    };
     std::fs::write(dir.join("supervised.bin"), save_bundle(&config(true), sup).unwrap()).unwrap();
     std::fs::write(dir.join("unsupervised.bin"), save_bundle(&config(false), unsup).unwrap()).unwrap();
-    std::fs::write(dir.join("manifest.json"), serde_json::to_vec_pretty(&stylize_support::manifest()).unwrap()).unwrap();
+    std::fs::write(dir.join("manifest.json"), serde_json::to_vec_pretty(&stylize_support::manifest()).unwrap())
+        .unwrap();
     std::fs::write(dir.join("norm.json"), serde_json::to_vec(&norm()).unwrap()).unwrap();
     dir
 }
@@ -112,7 +117,13 @@ fn a_setting_can_be_added_later_on_the_shared_networks() {
         read(&dir, "supervised.bin"),
         read(&dir, "unsupervised.bin"),
     );
-    let files = WeightFiles { manifest: &manifest, norm: &norm, shared: Some(&shared), supervised: Some(&sup), unsupervised: None };
+    let files = WeightFiles {
+        manifest: &manifest,
+        norm: &norm,
+        shared: Some(&shared),
+        supervised: Some(&sup),
+        unsupervised: None,
+    };
     let mut w = Weights::from_files(files).unwrap();
     assert_eq!(w.settings(), [Setting::Supervised]);
     assert_eq!(w.listed(), [Setting::Supervised, Setting::Unsupervised]);
@@ -233,7 +244,10 @@ fn integer_encodings_stay_within_their_step_and_f16_is_exact_to_f16() {
     assert!(size("q4") < size("f16") * 0.3, "{sizes:?}");
     // Overrides by path prefix.
     let mixed = PartEncoding::parse("q4g64,style_encoder=q8").unwrap();
-    assert_eq!(mixed.of("stylizer.style_encoder.down1.conv.weight", &[96, 64, 3]), TensorEncoding::Int { bits: 8, group: 0 });
+    assert_eq!(
+        mixed.of("stylizer.style_encoder.down1.conv.weight", &[96, 64, 3]),
+        TensorEncoding::Int { bits: 8, group: 0 }
+    );
     assert_eq!(mixed.of("generator.block1.conv.conv.weight", &[96, 64, 3]), TensorEncoding::Int { bits: 4, group: 64 });
     assert_eq!(mixed.of("generator.block1.conv.conv.bias", &[96]), TensorEncoding::F16);
     assert_eq!(mixed.name(), "q4g64,style_encoder=q8");

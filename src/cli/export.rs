@@ -36,7 +36,8 @@ pub struct ExportArgs {
 
 pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
     let parse = |flag: &str, spec: &str| {
-        PartEncoding::parse(spec).with_context(|| format!("--{flag} {spec:?}: not an encoding (f16, q8, q4, q4g64, ...)"))
+        PartEncoding::parse(spec)
+            .with_context(|| format!("--{flag} {spec:?}: not an encoding (f16, q8, q4, q4g64, ...)"))
     };
     let encodings = Encodings { shared: parse("shared", &args.shared)?, stylizer: parse("stylizer", &args.stylizer)? };
     let manifest = match (&args.from, &args.sup, &args.unsup, &args.ae) {

@@ -228,7 +228,8 @@ impl TensorEncoding {
 
 impl PartEncoding {
     /// Every tensor in f16 (the format-1 bundles' precision).
-    pub const F16: PartEncoding = PartEncoding { large: TensorEncoding::F16, min_len: usize::MAX, overrides: Vec::new() };
+    pub const F16: PartEncoding =
+        PartEncoding { large: TensorEncoding::F16, min_len: usize::MAX, overrides: Vec::new() };
 
     /// `ENCODING[,PREFIX=ENCODING...]`: the large tensors' encoding ([`TensorEncoding::parse`]),
     /// then per path prefix another one, e.g. `q4g64,style_encoder=q8`.
@@ -565,8 +566,10 @@ impl ModuleMapper for Apply<'_> {
         };
         let shape = param.lazy_shape();
         if shape.as_slice() != t.shape.as_slice() {
-            self.error =
-                Some(PartError::Tensor { path, message: format!("shape {:?}, the network's is {:?}", t.shape, shape.to_vec()) });
+            self.error = Some(PartError::Tensor {
+                path,
+                message: format!("shape {:?}, the network's is {:?}", t.shape, shape.to_vec()),
+            });
             return param;
         }
         let values = match decode_tensor(t, &self.payload[t.offset..t.offset + t.len]) {

@@ -93,7 +93,13 @@ impl Weights {
         supervised: Option<&[u8]>,
         unsupervised: Option<&[u8]>,
     ) -> Result<Weights, StylizeError> {
-        Self::from_files(WeightFiles { manifest: manifest_json, norm: norm_json, shared: None, supervised, unsupervised })
+        Self::from_files(WeightFiles {
+            manifest: manifest_json,
+            norm: norm_json,
+            shared: None,
+            supervised,
+            unsupervised,
+        })
     }
 
     /// [`Weights::from_bytes`] on a given device.
@@ -129,7 +135,10 @@ impl Weights {
             (None, None) => None,
             (None, Some(_)) => return Err(bad("a shared file was given, but the manifest (format 1) lists none")),
             (Some(entry), None) => {
-                return Err(bad(format!("the shared networks' file {} is needed (manifest format 2)", entry.file.file)));
+                return Err(bad(format!(
+                    "the shared networks' file {} is needed (manifest format 2)",
+                    entry.file.file
+                )));
             }
             (Some(entry), Some(bytes)) => {
                 check_file(&entry.file.file, Some(entry.file.bytes), Some(&entry.file.fnv1a64), bytes)?;
@@ -138,8 +147,15 @@ impl Weights {
                 Some((config, nets))
             }
         };
-        let mut weights =
-            Weights { manifest, norm, shared, device: device.clone(), supervised: None, unsupervised: None, label_codes: None };
+        let mut weights = Weights {
+            manifest,
+            norm,
+            shared,
+            device: device.clone(),
+            supervised: None,
+            unsupervised: None,
+            label_codes: None,
+        };
         for (setting, bytes) in [(Setting::Supervised, files.supervised), (Setting::Unsupervised, files.unsupervised)] {
             if let Some(bytes) = bytes {
                 weights.add_setting(setting, bytes)?;
@@ -177,8 +193,7 @@ impl Weights {
                 let (header, _) = part_header(bytes).map_err(|e| context(bad(e.to_string())))?;
                 check_config(&header.config, setting, labels).map_err(context)?;
                 check_shared_fits(shared_config, &header.config).map_err(context)?;
-                let (config, stylizer) =
-                    load_stylizer(bytes, &self.device).map_err(|e| context(bad(e.to_string())))?;
+                let (config, stylizer) = load_stylizer(bytes, &self.device).map_err(|e| context(bad(e.to_string())))?;
                 let nets = MotionModel {
                     autoencoder: shared.autoencoder.clone(),
                     stylizer,

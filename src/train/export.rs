@@ -27,7 +27,7 @@ use super::rundir::load_module;
 use super::rundir::{self, Checkpoint, CsvTable, RunConfig, RunLog};
 use crate::dataset::{STYLES, Split};
 use crate::features::NormStats;
-use crate::model::weights::{PartEncoding, PartKind, SharedNets, fnv1a64, float_params, save_part};
+use crate::model::weights::{PartEncoding, PartKind, SharedNets, float_params, fnv1a64, save_part};
 use crate::model::{ModelConfig, MotionModel, Stylizer};
 use crate::stylize::manifest::{FORMAT, FileRef, Manifest, ModelEntry, SharedEntry, StageRecord};
 use crate::stylize::{Setting, Weights};
@@ -204,7 +204,8 @@ pub fn repack(from: &Path, out: &Path, encodings: Encodings) -> anyhow::Result<M
     rundir::write_atomic(&out.join(&manifest.norm), &norm)?;
     let mut nets = Vec::new();
     for entry in &manifest.models {
-        let setting = Setting::from_name(&entry.setting).with_context(|| format!("unknown setting {:?}", entry.setting))?;
+        let setting =
+            Setting::from_name(&entry.setting).with_context(|| format!("unknown setting {:?}", entry.setting))?;
         let model = weights.model(setting)?;
         nets.push((model.config.clone(), model.nets.clone()));
     }
@@ -225,7 +226,8 @@ fn write_folder(
     let shared = SharedNets { autoencoder: first.autoencoder.clone(), regressor: first.regressor.clone() };
     let reference = float_params(&shared)?;
     for ((_, other), entry) in nets.iter().zip(&manifest.models).skip(1) {
-        let theirs = float_params(&SharedNets { autoencoder: other.autoencoder.clone(), regressor: other.regressor.clone() })?;
+        let theirs =
+            float_params(&SharedNets { autoencoder: other.autoencoder.clone(), regressor: other.regressor.clone() })?;
         if theirs != reference {
             eprintln!(
                 "warning: the {} model's autoencoder/regressor differ from the {}'s; the {}'s are shared",
@@ -233,7 +235,8 @@ fn write_folder(
             );
         }
     }
-    let file_ref = |file: &str, bytes: &[u8]| FileRef { file: file.into(), bytes: bytes.len() as u64, fnv1a64: fnv1a64(bytes) };
+    let file_ref =
+        |file: &str, bytes: &[u8]| FileRef { file: file.into(), bytes: bytes.len() as u64, fnv1a64: fnv1a64(bytes) };
     let norm = std::fs::read(out.join(&manifest.norm)).with_context(|| format!("cannot read {}", manifest.norm))?;
     manifest.norm_bytes = Some(norm.len() as u64);
     manifest.norm_fnv1a64 = Some(fnv1a64(&norm));

@@ -74,7 +74,8 @@ impl Engine {
     /// `SETTING_UNAVAILABLE` (the manifest lists no such model), `BAD_WEIGHTS`.
     #[wasm_bindgen(js_name = addSetting)]
     pub fn add_setting(&mut self, setting: &str, bytes: &[u8]) -> Result<(), JsValue> {
-        let setting = Setting::from_name(setting).ok_or_else(|| bad_request(&format!("unknown setting {setting:?}")))?;
+        let setting =
+            Setting::from_name(setting).ok_or_else(|| bad_request(&format!("unknown setting {setting:?}")))?;
         self.weights.add_setting(setting, bytes).map_err(|e| stylize_error(&e))
     }
 
