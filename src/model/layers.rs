@@ -1,5 +1,7 @@
-//! Building blocks: 1-D convolution layers over time (layout `[batch, channels, time]`) with
-//! reflection or zero padding, instance norm, AdaIN, LeakyReLU 0.2, nearest ×2 upsampling.
+//! Building blocks: 1-D convolution layers over time (layout `[batch, channels, time]` at every
+//! network's input and output; inside, the layers compute on `[channels, batch, time]`, see
+//! [`to_cbt`]) with reflection or zero padding, instance norm, AdaIN, LeakyReLU 0.2, nearest ×2
+//! upsampling.
 //!
 //! Conventions (from the authors' released code):
 //! - A "conv layer" is: [reflection pad k/2] → conv (stride 1 or 2) → [instance norm] →

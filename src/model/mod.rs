@@ -2,7 +2,8 @@
 //! in Burn 0.22: architecture, seeded inference and compact f16 weights — what the wasm build
 //! ships. Their losses and training steps are [`crate::train`]'s (native only).
 //!
-//! Layout of every sequence tensor: `[batch, channels, time]`. Frame counts `T` are multiples of 8:
+//! Layout of every sequence tensor between networks: `[batch, channels, time]` (inside a network
+//! the layers work on `[channels, batch, time]`: [`layers::to_cbt`]). Frame counts `T` are multiples of 8:
 //! motion latent at `T/4` ([`autoencoder`]), content code at `T/8` ([`content`]), one global style
 //! code per clip ([`style`]), recombined by the AdaIN [`generator`] into a latent at `T/4`.
 //!
