@@ -564,9 +564,15 @@ export class Stylizer {
     if (!entry) return;
     if (!this.#pending.has(setting)) {
       const { folder, onProgress } = this.#source;
-      const job = readAll(folder, [entry], onProgress, { setting }).then(([bytes]) => {
+      const add = async () => {
+        const [bytes] = await readAll(folder, [entry], onProgress, { setting });
         guard(() => this.#live().addSetting(setting, bytes));
         this.#files = { ...this.#files, [setting]: bytes };
+      };
+      // Cached bytes the engine refuses (a damaged cache): dropped and fetched again, once.
+      const job = add().catch(async (e) => {
+        if (e.code !== 'BAD_WEIGHTS' || !folder.fromCache || !(await folder.forget())) throw e;
+        return add();
       });
       this.#pending.set(setting, job);
       job.catch(() => {}).finally(() => this.#pending.delete(setting));

@@ -169,3 +169,38 @@ test('20 Mbit/s network emulation: bytes and time to the first result (reported)
   console.log(`# 20 Mbit/s, second visit: first result ${second.firstResultMs} ms after navigation (weights read ${Math.round(second.load.fetchMs)} ms)`);
   await context.close();
 });
+
+test('a damaged weights cache is dropped and fetched again: the first result all the same', async () => {
+  const context = await browser.newContext({ viewport: { width: 1366, height: 900 } });
+  const page = await context.newPage();
+  await firstVisit(page);
+  // One byte changed in the cached supervised model (what a broken disk or an old cache might give).
+  const damaged = await page.evaluate(async () => {
+    // The package stores what it fetched in the background: wait for it.
+    const url = new URL('pkg/weights/supervised.bin', location.href).href;
+    let name;
+    let hit;
+    for (let i = 0; i < 200 && !hit; i++) {
+      name = (await caches.keys()).find((n) => n.startsWith('motion-stylizer-weights-'));
+      hit = name && (await (await caches.open(name)).match(url));
+      if (!hit) await new Promise((r) => setTimeout(r, 50));
+    }
+    const cache = await caches.open(name);
+    const bytes = new Uint8Array(await hit.arrayBuffer());
+    bytes[bytes.length >> 1] ^= 0x40;
+    await cache.put(url, new Response(bytes, { headers: { 'content-length': String(bytes.length) } }));
+    return { name, length: bytes.length };
+  });
+  assert.match(damaged.name, /^motion-stylizer-weights-[0-9a-f]{8}$/);
+  const again = await context.newPage();
+  const traffic = recordTraffic(again);
+  await firstVisit(again);
+  const fetched = weights(await traffic.take()).map((r) => r.path.replace(/.*\/weights\//, ''));
+  assert.ok(fetched.includes('supervised.bin'), `fetched again: ${fetched}`);
+  // The cache holds good bytes again: a third visit fetches no weights.
+  const third = await context.newPage();
+  const traffic3 = recordTraffic(third);
+  await firstVisit(third);
+  assert.deepEqual(weights(await traffic3.take()), []);
+  await context.close();
+});
