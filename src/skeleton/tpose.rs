@@ -114,7 +114,9 @@ pub(super) fn build(
             return Some(Target::Joint(x));
         }
         let u = map[j]?;
-        ((arms_mid(&pos0) - pos0[u]).length() > eps).then_some(Target::ArmsMid)
+        // Above `j` along the rig's up, not merely elsewhere: a head (the top of the chain) has the
+        // arms below it and keeps inheriting its parent's rotation.
+        ((arms_mid(&pos0) - pos0[u]).dot(up.normalize()) > eps).then_some(Target::ArmsMid)
     };
     let aim = |j: usize| -> Result<Aim, ImportError> {
         if j == HIPS || j == arm_root {
