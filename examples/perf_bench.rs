@@ -29,7 +29,7 @@ use motion_stylizer::features::{self, DIM, ROOT_ANG_VEL, View};
 use motion_stylizer::model::layers::{channels, one_hot};
 use motion_stylizer::model::{Model, NoiseRng};
 use motion_stylizer::skeleton;
-use motion_stylizer::stylize::{self, DEFAULT_TEMPERATURE, Request, Setting, StyleSource, Weights};
+use motion_stylizer::stylize::{self, DEFAULT_TEMPERATURE, Request, Setting, StyleSource, WeightFiles, Weights};
 use std::time::Instant;
 
 type BoxResult<T> = Result<T, Box<dyn std::error::Error>>;
@@ -106,8 +106,16 @@ fn main() -> BoxResult<()> {
 
     let t = Instant::now();
     let read = |name: &str| std::fs::read(dir.join(name));
-    let weights =
-        Weights::from_bytes(&read("manifest.json")?, &read("norm.json")?, Some(&read("supervised.bin")?), None)?;
+    // Format 2: the shared networks' file beside the supervised stylizer's (format 1: none).
+    let shared = read("shared.bin").ok();
+    let (manifest, norm, supervised) = (read("manifest.json")?, read("norm.json")?, read("supervised.bin")?);
+    let weights = Weights::from_files(WeightFiles {
+        manifest: &manifest,
+        norm: &norm,
+        shared: shared.as_deref(),
+        supervised: Some(&supervised),
+        unsupervised: None,
+    })?;
     let load_ms = t.elapsed().as_secs_f64() * 1e3;
     let s = weights.model(Setting::Supervised)?;
     let device = s.device().clone();
