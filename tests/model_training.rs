@@ -67,6 +67,7 @@ fn stylizer_overfits_one_batch() {
             motion1: features(&mut rng, 2, T),
             motion2: features(&mut rng, 2, T),
             labels: supervised.then(|| vec![0, 2]),
+            content_paired: Vec::new(),
         };
         let first = trainer.step(&batch).unwrap();
         let mut last = first.clone();
@@ -88,9 +89,15 @@ fn training_inputs_are_checked() {
     let mut trainer = StylizerTrainer::new(cfg(true), TrainConfig::default(), ae, &dev, 1);
     let mut rng = NoiseRng::new(1);
     let ok = features(&mut rng, 2, T);
-    let no_labels = StylizerBatch { motion1: ok.clone(), motion2: ok.clone(), labels: None };
+    let no_labels =
+        StylizerBatch { motion1: ok.clone(), motion2: ok.clone(), labels: None, content_paired: Vec::new() };
     assert!(matches!(trainer.step(&no_labels), Err(ModelError::Label(_))));
-    let bad_len = StylizerBatch { motion1: features(&mut rng, 2, 20), motion2: ok.clone(), labels: Some(vec![0, 1]) };
+    let bad_len = StylizerBatch {
+        motion1: features(&mut rng, 2, 20),
+        motion2: ok.clone(),
+        labels: Some(vec![0, 1]),
+        content_paired: Vec::new(),
+    };
     assert!(matches!(trainer.step(&bad_len), Err(ModelError::FrameCount { frames: 20, .. })));
     let mut ae_trainer = AeTrainer::new(cfg(true), TrainConfig::default(), &dev, 1);
     assert!(matches!(ae_trainer.step(features(&mut rng, 1, 12)), Err(ModelError::FrameCount { .. })));

@@ -267,3 +267,56 @@ fn a_malformed_labels_csv_is_refused_with_its_line() {
     }
     let _ = std::fs::remove_dir_all(&root);
 }
+
+/// `train stylizer --from WEIGHTS --style-stats W` without an `ae` run (the weights' autoencoder),
+/// then `export --from WEIGHTS --sup RUN`: the fine-tuned stylizer replaces the folder's, the
+/// shared networks and the other model are written again unchanged.
+#[test]
+fn a_stylizer_fine_tuned_with_the_style_statistics_loss_replaces_the_weights_stylizer() {
+    let root = fresh("style-stats");
+    let data = root.join("data");
+    let source = fixture("bandai/dataset-2_walk_normal_001_f120.bvh");
+    // Labels the shipped weights know, one content: every row pair can be content-paired.
+    let mut csv = String::from("file,style,content\n");
+    for (label, speed) in [("old", 0.5), ("angry", 2.0)] {
+        std::fs::create_dir_all(data.join(label)).unwrap();
+        for (take, start) in [0usize, 10].into_iter().enumerate() {
+            let name = format!("{label}/{label}_{take}.bvh");
+            std::fs::write(data.join(&name), generate(&source, start, speed)).unwrap();
+            csv.push_str(&format!("{name},{label},walk\n"));
+        }
+    }
+    std::fs::write(data.join("labels.csv"), csv).unwrap();
+    let weights = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/weights");
+    let run = root.join("run");
+    let common = ["--steps", "2", "--window", "32", "--batch", "4", "--threads", "1", "--eval-every", "0"];
+    let mut args = vec!["train", "stylizer", "--data", p(&data), "--out", p(&run), "--from", p(&weights)];
+    args.extend_from_slice(&common);
+    args.extend_from_slice(&["--style-stats", "1"]);
+    ok(cli(&args));
+    let losses = rundir::CsvTable::read(&run.join(rundir::LOSS_CSV)).unwrap();
+    let col = losses.columns.iter().position(|c| c == "style_stats").expect("a style_stats column");
+    let rows = losses.up_to(2);
+    assert_eq!(rows.len(), 2);
+    assert!(rows.iter().all(|r| r[col] > 0.0), "every step had content-paired swaps: {rows:?}");
+
+    let out = root.join("weights");
+    ok(cli(&["export", "--from", p(&weights), "--sup", p(&run), "-o", p(&out)]));
+    let bytes = |dir: &Path, f: &str| std::fs::read(dir.join(f)).unwrap();
+    assert!(bytes(&out, "shared.bin") == bytes(&weights, "shared.bin"), "the shared networks are unchanged");
+    assert!(bytes(&out, "unsupervised.bin") == bytes(&weights, "unsupervised.bin"));
+    assert!(bytes(&out, "supervised.bin") != bytes(&weights, "supervised.bin"), "the stylizer is the run's");
+    let manifest: Manifest = rundir::read_json(&out.join("manifest.json")).unwrap();
+    let old: Manifest = rundir::read_json(&weights.join("manifest.json")).unwrap();
+    let (sup, old_sup) = (&manifest.models[0], &old.models[0]);
+    assert_eq!(sup.setting, "supervised");
+    assert_eq!(sup.stages.len(), old_sup.stages.len() + 1, "the fine-tune is one more stage");
+    assert!(sup.label_codes.is_none(), "new networks need new label codes");
+    // Fine-tuning with the paper's losses on an `ae` run of other weights is refused by export.
+    let other = root.join("other");
+    let mut args = vec!["train", "stylizer", "--data", p(&data), "--out", p(&other)];
+    args.extend_from_slice(&common);
+    let refused = cli(&args);
+    assert!(!refused.status.success() && stderr(&refused).contains("--from WEIGHTS"), "{}", stderr(&refused));
+    let _ = std::fs::remove_dir_all(&root);
+}

@@ -1,10 +1,12 @@
 //! `motion-stylizer export --sup RUN --unsup RUN --ae RUN -o assets/weights`, or
-//! `motion-stylizer export --from WEIGHTS_DIR -o OUT --shared q8 --stylizer q4g64`: see
+//! `motion-stylizer export --from WEIGHTS_DIR -o OUT --shared q8 --stylizer q4g64` (with
+//! `--sup RUN` / `--unsup RUN`: a fine-tuned run's stylizer replaces the folder's): see
 //! [`motion_stylizer::train::export`].
 
 use anyhow::Context;
 use clap::Args;
 use motion_stylizer::model::weights::PartEncoding;
+use motion_stylizer::stylize::Setting;
 use motion_stylizer::train::export::Encodings;
 use std::path::PathBuf;
 
@@ -19,8 +21,10 @@ pub struct ExportArgs {
     /// The `ae` run folder the stylizers were trained on (provenance and norm.json).
     #[arg(long, value_name = "RUN_DIR", required_unless_present = "from")]
     ae: Option<PathBuf>,
-    /// Instead of runs: an existing weights folder (format 1 or 2), written again in format 2.
-    #[arg(long, value_name = "WEIGHTS_DIR", conflicts_with_all = ["sup", "unsup", "ae"])]
+    /// Instead of runs: an existing weights folder (format 1 or 2), written again in format 2;
+    /// with --sup and/or --unsup, runs fine-tuned from it (`train stylizer --from`) replace its
+    /// stylizers.
+    #[arg(long, value_name = "WEIGHTS_DIR", conflicts_with = "ae")]
     from: Option<PathBuf>,
     /// Encoding of the shared networks' large layers: f16, q8 (int8, a scale per output
     /// channel), q4 (int4), q4g64 (int4, a scale per 64 weights of an output channel), ...
@@ -41,7 +45,14 @@ pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
     };
     let encodings = Encodings { shared: parse("shared", &args.shared)?, stylizer: parse("stylizer", &args.stylizer)? };
     let manifest = match (&args.from, &args.sup, &args.unsup, &args.ae) {
-        (Some(from), ..) => motion_stylizer::train::export::repack(from, &args.output, encodings)?,
+        (Some(from), None, None, _) => motion_stylizer::train::export::repack(from, &args.output, encodings)?,
+        (Some(from), sup, unsup, _) => {
+            let runs: Vec<(Setting, &std::path::Path)> = [(Setting::Supervised, sup), (Setting::Unsupervised, unsup)]
+                .into_iter()
+                .filter_map(|(s, d)| d.as_deref().map(|d| (s, d)))
+                .collect();
+            motion_stylizer::train::export::replace_stylizers(from, &runs, &args.output, encodings)?
+        }
         (None, Some(sup), Some(unsup), Some(ae)) => {
             motion_stylizer::train::export::export(sup, unsup, ae, &args.output, encodings)?
         }

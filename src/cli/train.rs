@@ -27,6 +27,12 @@ enum StageArgs {
         /// Train without style labels (default: supervised, with the unified labels).
         #[arg(long)]
         unsupervised: bool,
+        /// Weight of the style-statistics loss (not in the paper; new runs): every other pair of
+        /// batch rows is two takes of one content in different styles, and the swap of one's
+        /// content with the other's style is pulled to the other's per-feature mean and spread
+        /// over time. 0: the paper's losses only.
+        #[arg(long, default_value_t = 0.0, value_name = "WEIGHT")]
+        style_stats: f32,
     },
     /// The evaluation's style classifier, on the training takes only (`eval` uses it).
     Classifier(TrainOptions),
@@ -114,8 +120,12 @@ pub fn run(args: TrainArgs) -> anyhow::Result<()> {
         StageArgs::Ae(options) => (options, Stage::Ae),
         StageArgs::Classifier(options) => (options, Stage::Classifier),
         StageArgs::ContentClassifier(options) => (options, Stage::ContentClassifier),
-        StageArgs::Stylizer { options, ae, unsupervised } => {
-            (options, Stage::Stylizer { ae, supervised: !unsupervised })
+        StageArgs::Stylizer { options, ae, unsupervised, style_stats } => {
+            anyhow::ensure!(
+                style_stats.is_finite() && style_stats >= 0.0,
+                "--style-stats {style_stats}: the weight must be 0 or more"
+            );
+            (options, Stage::Stylizer { ae, supervised: !unsupervised, style_stats })
         }
     };
     options.validate()?;

@@ -239,11 +239,19 @@ pub fn train_all(opts: &AllOptions) -> anyhow::Result<Report> {
     let ae_dir = opts.out.join("ae");
     let mut plan: Vec<(&str, Stage, u64)> = vec![("ae", Stage::Ae, ae_steps)];
     if labelled > 0 {
-        plan.push(("sup", Stage::Stylizer { ae: Some(ae_dir.clone()), supervised: true }, stylizer_steps));
+        plan.push((
+            "sup",
+            Stage::Stylizer { ae: Some(ae_dir.clone()), supervised: true, style_stats: 0.0 },
+            stylizer_steps,
+        ));
     } else {
         say("no labelled files: no supervised stylizer (label- and motion-based with labels need labels.csv)".into());
     }
-    plan.push(("unsup", Stage::Stylizer { ae: Some(ae_dir.clone()), supervised: false }, stylizer_steps));
+    plan.push((
+        "unsup",
+        Stage::Stylizer { ae: Some(ae_dir.clone()), supervised: false, style_stats: 0.0 },
+        stylizer_steps,
+    ));
     if with_files >= 2 {
         plan.push(("classifier", Stage::Classifier, classifier_steps));
     } else {

@@ -22,6 +22,10 @@ pub struct TrainData {
     /// ([`crate::dataset::CONTENTS`]; takes of other contents are left out).
     pub clips: Vec<Features>,
     pub labels: Vec<usize>,
+    /// Each clip's content group — the same content of the same data set, mirrored or not —
+    /// whose takes in other styles the stylizer's content-paired rows draw from
+    /// ([`WindowSampler::content_partner`]); `None` for a clip without a content.
+    pub groups: Vec<Option<u32>>,
     pub sampler: WindowSampler,
     /// The fixed held-out windows and pairs.
     pub heldout: HeldoutSet,
@@ -42,6 +46,21 @@ fn normalized(clips: &[Clip], norm: &NormStats) -> Vec<Features> {
             let mut f = c.features.clone();
             norm.normalize(&mut f);
             f
+        })
+        .collect()
+}
+
+/// Numbers the clips' content groups: (data set, content, mirrored) for a Bandai-Namco take,
+/// (content, mirrored) for a folder's file with a content; `None` without a content.
+fn content_groups(clips: &[Clip]) -> Vec<Option<u32>> {
+    let mut ids: std::collections::HashMap<(u8, &str, bool), u32> = Default::default();
+    clips
+        .iter()
+        .map(|c| {
+            let set = c.take.as_ref().map_or(0, |t| t.set);
+            let content = c.content.as_deref()?;
+            let next = ids.len() as u32;
+            Some(*ids.entry((set, content, c.mirrored)).or_insert(next))
         })
         .collect()
 }
@@ -129,6 +148,7 @@ impl TrainData {
         }
         let clips = normalized(&train, &norm);
         let labels: Vec<usize> = train.iter().filter_map(class).collect();
+        let groups = content_groups(&train);
         let frames: Vec<usize> = clips.iter().map(Features::frames).collect();
         let sampler = WindowSampler::new(&frames, &labels, window);
         ensure!(sampler.eligible() > 0, "no training take has {window} frames or more (--window {window})");
@@ -172,6 +192,7 @@ impl TrainData {
         Ok(TrainData {
             clips,
             labels,
+            groups,
             sampler,
             heldout,
             heldout_takes,

@@ -213,6 +213,84 @@ pub fn repack(from: &Path, out: &Path, encodings: Encodings) -> anyhow::Result<M
     write_folder(out, manifest, nets, encodings)
 }
 
+/// `motion-stylizer export --from DIR --sup RUN [--unsup RUN]`: the weights folder `from` with
+/// the stylizer of each given run (a run fine-tuned from `from` with `train stylizer --from`, so
+/// on its autoencoder and regressor: checked, as are the label set and the normalisation
+/// statistics) in place of that setting's; the rest as [`repack`]. A replaced model's manifest
+/// entry keeps its earlier stages and gains the run's; its label codes are dropped (new
+/// networks: `motion-stylizer label-codes` computes them).
+pub fn replace_stylizers(
+    from: &Path,
+    runs: &[(Setting, &Path)],
+    out: &Path,
+    encodings: Encodings,
+) -> anyhow::Result<Manifest> {
+    let weights = Weights::load_dir(from).with_context(|| format!("cannot load the weights at {}", from.display()))?;
+    let mut manifest = weights.manifest().clone();
+    let mut nets = Vec::new();
+    for entry in &manifest.models {
+        let setting =
+            Setting::from_name(&entry.setting).with_context(|| format!("unknown setting {:?}", entry.setting))?;
+        let model = weights.model(setting)?;
+        nets.push((setting, model.config.clone(), model.nets.clone()));
+    }
+    for &(setting, dir) in runs {
+        let flag = if setting == Setting::Supervised { "--sup" } else { "--unsup" };
+        let config: RunConfig = rundir::read_json(&dir.join(rundir::CONFIG))
+            .with_context(|| format!("{flag} {}: not a training run folder", dir.display()))?;
+        ensure!(config.stage == "stylizer", "{flag} {}: a {} run, not a stylizer run", dir.display(), config.stage);
+        ensure!(
+            config.supervised == Some(setting == Setting::Supervised),
+            "{flag} {}: not a {setting} run",
+            dir.display()
+        );
+        ensure!(
+            config.labels() == manifest.styles,
+            "{flag} {}: trained on other labels than {}'s",
+            dir.display(),
+            from.display()
+        );
+        let run_norm: NormStats = rundir::read_json(&dir.join(rundir::NORM))?;
+        ensure!(
+            run_norm == *weights.norm(),
+            "{flag} {}: its normalisation statistics differ from {}'s",
+            dir.display(),
+            from.display()
+        );
+        let (i, entry) = manifest
+            .models
+            .iter_mut()
+            .enumerate()
+            .find(|(_, e)| e.setting == setting.as_str())
+            .with_context(|| format!("{} has no {setting} model to replace", from.display()))?;
+        let (_, model_config, old) = &nets[i];
+        let device = Device::flex();
+        let ae_ckpt = Checkpoint::read(&dir.join(rundir::AE_COPY))?;
+        let ae_nets = load_module(AeNets::new(&config.model, &device), &ae_ckpt.weights)?;
+        let theirs = float_params(&SharedNets { autoencoder: ae_nets.autoencoder, regressor: ae_nets.regressor })?;
+        let ours =
+            float_params(&SharedNets { autoencoder: old.autoencoder.clone(), regressor: old.regressor.clone() })?;
+        ensure!(
+            theirs == ours,
+            "{flag} {}: trained on another autoencoder than {}'s (fine-tune with `train stylizer --from {}`)",
+            dir.display(),
+            from.display(),
+            from.display()
+        );
+        let ckpt = Checkpoint::read(&dir.join(rundir::CHECKPOINT))?;
+        let stylizer = load_module(Stylizer::new(&config.model, &device), &ckpt.weights)?;
+        entry.stages.push(stage_record(dir, &config, ckpt.meta.step)?);
+        entry.label_codes = None;
+        let new = MotionModel { stylizer, ..old.clone() };
+        nets[i] = (setting, model_config.clone(), new);
+    }
+    let norm = std::fs::read(from.join(&manifest.norm)).with_context(|| format!("cannot read {}", manifest.norm))?;
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    rundir::write_atomic(&out.join(&manifest.norm), &norm)?;
+    manifest.format = FORMAT;
+    write_folder(out, manifest, nets.into_iter().map(|(_, c, n)| (c, n)).collect(), encodings)
+}
+
 /// Writes `shared.bin` (from the first model), one stylizer file per entry of `manifest.models`
 /// (in the same order as `nets`), then the manifest with every file's size and fingerprint.
 fn write_folder(

@@ -129,20 +129,26 @@ pub fn autoencoder_loss(
 // ---------------------------------------------------------------------------------------------
 // Stylizer stage.
 
-/// Weights of the stylizer's loss `L = λ_rec L_rec + λ_hsa L_hsa + λ_cyc L_cyc + λ_kl L_kl`.
+/// Weights of the stylizer's loss `L = λ_rec L_rec + λ_hsa L_hsa + λ_cyc L_cyc + λ_kl L_kl
+/// (+ λ_stats L_stats)`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct StylizerWeights {
     pub rec: f32,
     pub hsa: f32,
     pub cyc: f32,
     pub kl: f32,
+    /// `λ_stats` of the style-statistics loss on content-paired swaps ([`style_statistics`]; not
+    /// in the paper: 0 there). A run with it above 0 draws content-paired batch rows
+    /// ([`super::sampler::WindowSampler::content_partner`]).
+    #[serde(default)]
+    pub style_stats: f32,
 }
 
 impl StylizerWeights {
     /// Paper, supervised: (hsa, cyc, kl) = (1, 0.1, 0.1).
-    pub const SUPERVISED: Self = Self { rec: 1.0, hsa: 1.0, cyc: 0.1, kl: 0.1 };
+    pub const SUPERVISED: Self = Self { rec: 1.0, hsa: 1.0, cyc: 0.1, kl: 0.1, style_stats: 0.0 };
     /// Paper, unsupervised: (hsa, cyc, kl) = (0.1, 1, 0.01).
-    pub const UNSUPERVISED: Self = Self { rec: 1.0, hsa: 0.1, cyc: 1.0, kl: 0.01 };
+    pub const UNSUPERVISED: Self = Self { rec: 1.0, hsa: 0.1, cyc: 1.0, kl: 0.01, style_stats: 0.0 };
 
     /// The paper's weights for the given mode.
     pub fn paper(supervised: bool) -> Self {
@@ -163,6 +169,30 @@ pub struct StylizerInputs {
     pub latent2: Tensor<3>,
     /// One-hot style label of each sequence `[B, S]` (supervised), `None` (unsupervised).
     pub labels: Option<Tensor<2>>,
+    /// The rows whose partner row ([`partner_permutation`]) is a take of the same content in
+    /// another style: their swaps are judged by the style-statistics loss. Empty: no such loss.
+    pub content_paired: Vec<usize>,
+}
+
+/// Per-channel mean and standard deviation over time of `[B, C, T]` features: `([B, C], [B, C])`.
+fn time_statistics(x: Tensor<3>) -> (Tensor<2>, Tensor<2>) {
+    let mean = x.clone().mean_dim(2);
+    let var = (x - mean.clone()).square().mean_dim(2);
+    let [b, c, _] = mean.dims();
+    (mean.reshape([b, c]), (var + 1e-6).sqrt().reshape([b, c]))
+}
+
+/// Style-statistics loss (ours, not the paper's): a swap `G(c_A, s_B)` whose two clips are takes
+/// of the same content in different styles should move the decoded motion's time statistics —
+/// every feature's mean (posture: hip height, lean, hand height, …) and spread over the window
+/// (swing, bounce, speed variation) — to those of `B`'s clip, since with the content shared
+/// what differs between the takes' statistics is the style. Smooth-L1 on the means plus on the
+/// standard deviations, `[B, 260, T]` decoded swaps against `[B, 260, T]` targets (the
+/// windows' timing is free: nothing is compared frame by frame).
+pub fn style_statistics(decoded: Tensor<3>, target: Tensor<3>) -> Tensor<1> {
+    let (m, s) = time_statistics(decoded);
+    let (mt, st) = time_statistics(target);
+    smooth_l1(m, mt) + smooth_l1(s, st)
 }
 
 /// The stylizer's loss terms for one batch (unweighted, plus the weighted total).
@@ -181,6 +211,9 @@ pub struct StylizerLosses {
     pub kl: Tensor<1>,
     /// `L_hsa`: `KL(N¹ ‖ N²)`.
     pub hsa: Tensor<1>,
+    /// `L_stats`: [`style_statistics`] of the content-paired swaps `D(zᵗ)` against `P³` (0 when
+    /// the batch has none or its weight is 0).
+    pub style_stats: Tensor<1>,
 }
 
 /// The row permutation that picks "another clip" `z³` for every row: rows swapped in pairs
@@ -209,7 +242,9 @@ pub fn partner_permutation(batch: usize) -> Vec<usize> {
 ///   `z̃³ = G(c³ (detached), s ~ Nᵗ, sl³)` (clip 3's content, the style read back from zᵗ).
 /// - Pose space: every reconstruction is decoded by the frozen decoder `D` and compared with the
 ///   clip's 260-D features.
-/// - `L = λ_rec L_rec + λ_cyc L_cyc + λ_kl L_kl + λ_hsa L_hsa` (see [`StylizerLosses`]).
+/// - `L = λ_rec L_rec + λ_cyc L_cyc + λ_kl L_kl + λ_hsa L_hsa (+ λ_stats L_stats)` (see
+///   [`StylizerLosses`]; `L_stats`, ours, on the rows of `inputs.content_paired`:
+///   [`style_statistics`]`(D(zᵗ), P³)`).
 pub fn stylizer_loss(
     net: &Stylizer,
     decoder: &MotionDecoder,
@@ -264,6 +299,7 @@ pub fn stylizer_loss(
         stack_labels(vec![&sl, &sl, &sl3]),
     );
     let (r1, r2, zt) = (rows(g.clone(), 0), rows(g.clone(), 1), rows(g, 2));
+    let zt_swap = zt.clone();
     // Cycle: encode zᵗ, then z̃² = G(cᵗ, s ~ N²(detached), sl²), z̃³ = G(c³ (detached), s ~ Nᵗ, sl³).
     let ct = net.content_encoder.forward(zt.clone());
     let nt = net.style_encoder.forward(zt, sl3.clone());
@@ -272,8 +308,24 @@ pub fn stylizer_loss(
     let g = net.generator.forward(stack3(vec![ct, c3.detach()]), stack2(vec![s2b, st]), stack_labels(vec![&sl, &sl3]));
     let (rr2, rr3) = (rows(g.clone(), 0), rows(g, 1));
 
-    // Pose space: one pass of the frozen decoder over [ẑ¹; ẑ²; z̃²; z̃³].
-    let poses = decoder.forward(stack3(vec![r1.clone(), r2.clone(), rr2.clone(), rr3.clone()]));
+    // Pose space: one pass of the frozen decoder over [ẑ¹; ẑ²; z̃²; z̃³] and, for the
+    // style-statistics loss, the content-paired swaps zᵗ.
+    let paired = (weights.style_stats > 0.0 && !inputs.content_paired.is_empty()).then(|| {
+        let rows: Vec<i64> = inputs.content_paired.iter().map(|&i| i as i64).collect();
+        Tensor::<1, Int>::from_data(TensorData::new(rows, [inputs.content_paired.len()]), &device)
+    });
+    let mut decoded = vec![r1.clone(), r2.clone(), rr2.clone(), rr3.clone()];
+    if let Some(rows) = &paired {
+        decoded.push(zt_swap.clone().select(0, rows.clone()));
+    }
+    let poses = decoder.forward(stack3(decoded));
+    let style_stats = match &paired {
+        Some(rows) => {
+            let n = rows.dims()[0];
+            style_statistics(poses.clone().narrow(0, 4 * batch, n), m3.clone().select(0, rows.clone()))
+        }
+        None => Tensor::zeros([1], &device),
+    };
     let rec_latent = smooth_l1(r1, z1) + smooth_l1(r2, z2.clone());
     let rec_pose = smooth_l1(rows(poses.clone(), 0), inputs.motion1.clone())
         + smooth_l1(rows(poses.clone(), 1), inputs.motion2.clone());
@@ -285,6 +337,33 @@ pub fn stylizer_loss(
     let total = (rec_latent.clone() + rec_pose.clone()) * weights.rec
         + (cyc_latent.clone() + cyc_pose.clone()) * weights.cyc
         + kl.clone() * weights.kl
-        + hsa.clone() * weights.hsa;
-    StylizerLosses { total, rec_latent, rec_pose, cyc_latent, cyc_pose, kl, hsa }
+        + hsa.clone() * weights.hsa
+        + style_stats.clone() * weights.style_stats;
+    StylizerLosses { total, rec_latent, rec_pose, cyc_latent, cyc_pose, kl, hsa, style_stats }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `[1, 2, 64]`: a sine of amplitude `amp` around `offset` and a constant, from phase `phase`.
+    fn wave(amp: f32, offset: f32, phase: usize) -> Tensor<3> {
+        let t = 64;
+        let mut v: Vec<f32> =
+            (0..t).map(|k| offset + amp * (std::f32::consts::TAU * ((k + phase) % 16) as f32 / 16.0).sin()).collect();
+        v.extend(std::iter::repeat_n(0.5, t));
+        Tensor::from_data(TensorData::new(v, [1, 2, t]), &Device::flex())
+    }
+
+    #[test]
+    fn style_statistics_ignore_timing_and_see_posture_and_swing() {
+        let loss = |a: Tensor<3>, b: Tensor<3>| style_statistics(a, b).into_scalar::<f32>();
+        // The same periodic motion at another phase: same statistics.
+        assert!(loss(wave(1.0, 0.0, 0), wave(1.0, 0.0, 5)) < 1e-6);
+        // Larger swing, or another posture: the loss sees it, and more of it more.
+        let swing = loss(wave(1.0, 0.0, 0), wave(1.5, 0.0, 3));
+        let posture = loss(wave(1.0, 0.0, 0), wave(1.0, 0.4, 0));
+        assert!(swing > 0.01 && posture > 0.01, "swing {swing}, posture {posture}");
+        assert!(loss(wave(1.0, 0.0, 0), wave(1.0, 0.8, 0)) > 2.0 * posture);
+    }
 }

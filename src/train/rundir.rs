@@ -213,6 +213,28 @@ fn ae_source(path: &Path) -> anyhow::Result<(RunConfig, Checkpoint, NormStats)> 
     Ok((config, Checkpoint::from_bytes(&bytes)?, norm))
 }
 
+/// How a stylizer run draws its batches (recorded in `config.json`).
+fn stylizer_sampler(style_stats: f32) -> String {
+    let mut s = "style-balanced: a style uniformly, a clip of it uniformly, two windows of that clip at independent \
+                 uniform offsets"
+        .to_string();
+    if style_stats > 0.0 {
+        s.push_str(
+            "; rows 4k+1 (when the data has one): a clip of row 4k's content group in another style (a style \
+             uniformly among the group's others, a clip of it uniformly)",
+        );
+    }
+    s
+}
+
+/// A stylizer run's optimisation settings: the defaults, with the paper's loss weights and the
+/// style-statistics weight when it is used.
+fn stylizer_train(supervised: bool, style_stats: f32) -> TrainConfig {
+    let weights = (style_stats > 0.0)
+        .then_some(super::losses::StylizerWeights { style_stats, ..super::losses::StylizerWeights::paper(supervised) });
+    TrainConfig { stylizer_weights: weights, ..TrainConfig::default() }
+}
+
 /// A run folder opened for a segment: the run's settings and what it starts from.
 pub struct OpenRun {
     pub config: RunConfig,
@@ -357,8 +379,35 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
             ae: None,
             norm: None,
         },
-        Stage::Stylizer { ae, supervised } => {
-            let ae = ae.as_ref().context("the stylizer stage needs --ae DIR (an `ae` run)")?;
+        Stage::Stylizer { ae: None, supervised, style_stats } if opts.from.is_some() => {
+            // Fine-tuning a stylizer alone: the frozen autoencoder and regressor are the weights
+            // folder's, as they were trained with (its `shared` networks).
+            let dir = opts.from.as_deref().context("--from")?;
+            let m = finetune::load_model(dir, None)?;
+            let nets = super::AeNets { autoencoder: m.autoencoder, regressor: m.regressor };
+            let ae_ckpt = Checkpoint {
+                meta: CheckpointMeta {
+                    stage: "ae".into(),
+                    step: 0,
+                    elapsed_s: 0.0,
+                    sampler: super::sampler::SamplerRng::new(0).state(),
+                    optimizer_state: false,
+                },
+                weights: module_bytes(nets)?,
+            };
+            let norm = start_norm.context("--from: the weights' normalisation statistics")?;
+            let config = RunConfig {
+                supervised: Some(*supervised),
+                model: base.model.clone().with_supervised(*supervised),
+                ae_run: Some(format!("{} (its autoencoder and regressor)", dir.display())),
+                sampler: stylizer_sampler(*style_stats),
+                train: stylizer_train(*supervised, *style_stats),
+                ..base
+            };
+            OpenRun { config, resume_from: None, ae: Some(ae_ckpt), norm: Some(norm) }
+        }
+        Stage::Stylizer { ae, supervised, style_stats } => {
+            let ae = ae.as_ref().context("the stylizer stage needs --ae DIR (an `ae` run), or --from WEIGHTS")?;
             let (ae_config, ae_ckpt, norm) = ae_source(ae)?;
             if let Some(w) = opts.settings.width
                 && w != ae_config.settings.width
@@ -383,9 +432,8 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
                 model: ae_config.model.clone().with_supervised(*supervised).with_num_styles(classes),
                 ae_run: Some(ae.display().to_string()),
                 ae_step: Some(ae_ckpt.meta.step),
-                sampler: "style-balanced: a style uniformly, a clip of it uniformly, two windows of that clip at \
-                          independent uniform offsets"
-                    .into(),
+                sampler: stylizer_sampler(*style_stats),
+                train: stylizer_train(*supervised, *style_stats),
                 ..base
             };
             OpenRun { config, resume_from: None, ae: Some(ae_ckpt), norm: Some(norm) }

@@ -93,6 +93,8 @@ pub struct WindowSampler {
     cumulative: Vec<u64>,
     /// Per style with an eligible clip: its eligible clips.
     by_style: Vec<(usize, Vec<usize>)>,
+    /// Every clip's style label.
+    styles: Vec<usize>,
 }
 
 impl WindowSampler {
@@ -112,7 +114,14 @@ impl WindowSampler {
         for &i in &eligible {
             by_style.entry(styles[i]).or_default().push(i);
         }
-        Self { window, frames: frames.to_vec(), eligible, cumulative, by_style: by_style.into_iter().collect() }
+        Self {
+            window,
+            frames: frames.to_vec(),
+            eligible,
+            cumulative,
+            by_style: by_style.into_iter().collect(),
+            styles: styles.to_vec(),
+        }
     }
 
     /// Number of clips long enough for a window.
@@ -155,7 +164,37 @@ impl WindowSampler {
     pub fn pair(&self, rng: &mut SamplerRng) -> (Window, Window, usize) {
         let (style, clips) = &self.by_style[rng.below(self.by_style.len() as u64) as usize];
         let clip = clips[rng.below(clips.len() as u64) as usize];
-        (self.start_in(clip, rng), self.start_in(clip, rng), *style)
+        self.pair_of(clip, *style, rng)
+    }
+
+    fn pair_of(&self, clip: usize, style: usize, rng: &mut SamplerRng) -> (Window, Window, usize) {
+        (self.start_in(clip, rng), self.start_in(clip, rng), style)
+    }
+
+    /// A partner for `clip`: an eligible clip of the same content group (`groups[i]`: e.g. the
+    /// data set, content and mirroring of clip `i`; `None`: no group) in another style — a style
+    /// uniformly among the group's other styles, then a clip of it uniformly — as a pair of
+    /// windows like [`pair`](Self::pair). `None` when the group has no other style.
+    pub fn content_partner(
+        &self,
+        clip: usize,
+        groups: &[Option<u32>],
+        rng: &mut SamplerRng,
+    ) -> Option<(Window, Window, usize)> {
+        let group = groups.get(clip).copied().flatten()?;
+        let own = self.styles[clip];
+        let mut by_style: std::collections::BTreeMap<usize, Vec<usize>> = Default::default();
+        for &i in &self.eligible {
+            if groups.get(i).copied().flatten() == Some(group) && self.styles[i] != own {
+                by_style.entry(self.styles[i]).or_default().push(i);
+            }
+        }
+        if by_style.is_empty() {
+            return None;
+        }
+        let (style, clips) = by_style.iter().nth(rng.below(by_style.len() as u64) as usize)?;
+        let partner = clips[rng.below(clips.len() as u64) as usize];
+        Some(self.pair_of(partner, *style, rng))
     }
 }
 
@@ -210,5 +249,24 @@ mod tests {
             assert!(a.start + 64 <= frames[a.clip] && b.start + 64 <= frames[b.clip]);
         }
         assert_eq!(seen.len() as u64, s.windows(), "every window is drawn");
+    }
+
+    #[test]
+    fn a_content_partner_is_the_same_content_in_another_style() {
+        // Clips 0–3: content group 0 in styles 0, 0, 1, 2 (clip 3 too short); clip 4: group 1,
+        // style 1; clip 5: no group.
+        let frames = [80, 80, 80, 10, 80, 80];
+        let styles = [0, 0, 1, 2, 1, 1];
+        let groups = [Some(0), Some(0), Some(0), Some(0), Some(1), None];
+        let s = WindowSampler::new(&frames, &styles, 64);
+        let mut rng = SamplerRng::new(3);
+        for _ in 0..200 {
+            let (a, b, style) = s.content_partner(0, &groups, &mut rng).expect("clip 2 is a partner");
+            assert_eq!((a.clip, b.clip, style), (2, 2, 1), "the only eligible clip of group 0 in another style");
+            let (a, _, style) = s.content_partner(2, &groups, &mut rng).unwrap();
+            assert!(a.clip < 2 && style == 0);
+        }
+        assert!(s.content_partner(4, &groups, &mut rng).is_none(), "group 1 has one style");
+        assert!(s.content_partner(5, &groups, &mut rng).is_none(), "no group");
     }
 }

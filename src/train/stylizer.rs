@@ -32,6 +32,9 @@ pub struct StylizerBatch {
     pub motion2: Tensor<3>,
     /// One label per row (supervised) or `None`.
     pub labels: Option<Vec<usize>>,
+    /// Rows whose partner row (`partner_permutation`: 0↔1, 2↔3, …) holds a take of the same
+    /// content in another style (the style-statistics loss judges their swaps).
+    pub content_paired: Vec<usize>,
 }
 
 step_report! {
@@ -45,6 +48,8 @@ step_report! {
         pub cyc_pose,
         pub kl,
         pub hsa,
+        /// The style-statistics loss of the content-paired swaps (0 without them).
+        pub style_stats,
         /// Gradient norms before clipping: content + style encoders, generator.
         pub encoders_grad_norm,
         pub generator_grad_norm,
@@ -126,6 +131,13 @@ impl StylizerTrainer {
         check_features("clip 1 features", &batch.motion1)?;
         check_features("clip 2 features", &batch.motion2)?;
         let [b, _, t] = batch.motion1.dims();
+        if let Some(&bad) = batch.content_paired.iter().find(|&&r| r >= b) {
+            return Err(ModelError::BatchSize {
+                what: "content-paired row (below the batch size)",
+                expected: b,
+                got: bad,
+            });
+        }
         if batch.motion2.dims() != [b, DIM, t] {
             let got = batch.motion2.dims()[0];
             return Err(ModelError::BatchSize { what: "clip 2 (same shape as clip 1)", expected: b, got });
@@ -152,6 +164,7 @@ impl StylizerTrainer {
             motion1,
             motion2,
             labels,
+            content_paired: batch.content_paired.clone(),
         };
         let losses = stylizer_loss(&self.net, &self.autoencoder.decoder, &inputs, &self.weights, &mut self.noise);
 
@@ -171,7 +184,7 @@ impl StylizerTrainer {
         let generator_grad_norm = clip_grad_norm(&self.net.generator, &mut g, clip);
         let t3 = Instant::now();
 
-        let [loss, rec_latent, rec_pose, cyc_latent, cyc_pose, kl, hsa] = read_scalars([
+        let [loss, rec_latent, rec_pose, cyc_latent, cyc_pose, kl, hsa, style_stats] = read_scalars([
             losses.total,
             losses.rec_latent,
             losses.rec_pose,
@@ -179,6 +192,7 @@ impl StylizerTrainer {
             losses.cyc_pose,
             losses.kl,
             losses.hsa,
+            losses.style_stats,
         ]);
         self.net = self.optim.step(self.train.lr, self.net.clone(), g);
         if let Some(p) = &mut self.phases {
@@ -192,6 +206,7 @@ impl StylizerTrainer {
             cyc_pose,
             kl,
             hsa,
+            style_stats,
             encoders_grad_norm,
             generator_grad_norm,
         })
@@ -205,7 +220,24 @@ impl Trainer for StylizerTrainer {
     const METRICS: &'static [&'static str] = &eval::STYLIZER_METRICS;
 
     fn train_step(&mut self, data: &TrainData, rng: &mut SamplerRng) -> anyhow::Result<StylizerStepReport> {
-        let pairs: Vec<_> = (0..data.batch).map(|_| data.sampler.pair(rng)).collect();
+        // With the style-statistics loss, every other pair of rows (0↔1, 4↔5, …) is a take and a
+        // take of the same content in another style, when the data has one; the other rows are
+        // drawn as always, so the swaps still cross contents half of the time.
+        let paired_rows = self.weights.style_stats > 0.0;
+        let mut pairs = Vec::with_capacity(data.batch);
+        let mut content_paired = Vec::new();
+        while pairs.len() < data.batch {
+            let row = pairs.len();
+            let first = data.sampler.pair(rng);
+            let partner = (paired_rows && row % 4 == 0 && row + 1 < data.batch)
+                .then(|| data.sampler.content_partner(first.0.clip, &data.groups, rng))
+                .flatten();
+            pairs.push(first);
+            if let Some(p) = partner {
+                content_paired.extend([row, row + 1]);
+                pairs.push(p);
+            }
+        }
         let first: Vec<_> = pairs.iter().map(|p| p.0).collect();
         let second: Vec<_> = pairs.iter().map(|p| p.1).collect();
         debug_assert!(pairs.iter().all(|p| data.labels[p.0.clip] == p.2));
@@ -213,6 +245,7 @@ impl Trainer for StylizerTrainer {
             motion1: batch_tensor(&data.clips, &first, data.window, &data.device),
             motion2: batch_tensor(&data.clips, &second, data.window, &data.device),
             labels: self.config.supervised.then(|| pairs.iter().map(|p| p.2).collect()),
+            content_paired,
         };
         Ok(self.step(&batch)?)
     }
