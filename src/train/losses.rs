@@ -299,10 +299,9 @@ pub fn stylizer_loss(
         stack_labels(vec![&sl, &sl, &sl3]),
     );
     let (r1, r2, zt) = (rows(g.clone(), 0), rows(g.clone(), 1), rows(g, 2));
-    let zt_swap = zt.clone();
     // Cycle: encode zᵗ, then z̃² = G(cᵗ, s ~ N²(detached), sl²), z̃³ = G(c³ (detached), s ~ Nᵗ, sl³).
     let ct = net.content_encoder.forward(zt.clone());
-    let nt = net.style_encoder.forward(zt, sl3.clone());
+    let nt = net.style_encoder.forward(zt.clone(), sl3.clone());
     let s2b = n2.detach().sample_with(eps());
     let st = nt.sample_with(eps());
     let g = net.generator.forward(stack3(vec![ct, c3.detach()]), stack2(vec![s2b, st]), stack_labels(vec![&sl, &sl3]));
@@ -316,7 +315,7 @@ pub fn stylizer_loss(
     });
     let mut decoded = vec![r1.clone(), r2.clone(), rr2.clone(), rr3.clone()];
     if let Some(rows) = &paired {
-        decoded.push(zt_swap.clone().select(0, rows.clone()));
+        decoded.push(zt.select(0, rows.clone()));
     }
     let poses = decoder.forward(stack3(decoded));
     let style_stats = match &paired {
