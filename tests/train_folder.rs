@@ -268,7 +268,8 @@ fn a_malformed_labels_csv_is_refused_with_its_line() {
     let _ = std::fs::remove_dir_all(&root);
 }
 
-/// `train stylizer --from WEIGHTS --style-stats W` without an `ae` run (the weights' autoencoder),
+/// `train stylizer --from WEIGHTS --style-stats W --content-shape W` without an `ae` run (the
+/// weights' autoencoder),
 /// then `export --from WEIGHTS --sup RUN`: the fine-tuned stylizer replaces the folder's, the
 /// shared networks and the other model are written again unchanged.
 #[test]
@@ -292,13 +293,18 @@ fn a_stylizer_fine_tuned_with_the_style_statistics_loss_replaces_the_weights_sty
     let common = ["--steps", "2", "--window", "32", "--batch", "4", "--threads", "1", "--eval-every", "0"];
     let mut args = vec!["train", "stylizer", "--data", p(&data), "--out", p(&run), "--from", p(&weights)];
     args.extend_from_slice(&common);
-    args.extend_from_slice(&["--style-stats", "1"]);
+    args.extend_from_slice(&["--style-stats", "1", "--content-shape", "1"]);
     ok(cli(&args));
     let losses = rundir::CsvTable::read(&run.join(rundir::LOSS_CSV)).unwrap();
-    let col = losses.columns.iter().position(|c| c == "style_stats").expect("a style_stats column");
+    let col = |name: &str| losses.columns.iter().position(|c| c == name).unwrap_or_else(|| panic!("a {name} column"));
+    let (stats, shape) = (col("style_stats"), col("content_shape"));
     let rows = losses.up_to(2);
     assert_eq!(rows.len(), 2);
-    assert!(rows.iter().all(|r| r[col] > 0.0), "every step had content-paired swaps: {rows:?}");
+    assert!(rows.iter().all(|r| r[stats] > 0.0), "every step had content-paired swaps: {rows:?}");
+    assert!(rows.iter().all(|r| r[shape] > 0.0), "every step judged the swaps' shapes: {rows:?}");
+    let config: serde_json::Value = rundir::read_json(&run.join("config.json")).unwrap();
+    let w = &config["train"]["stylizer_weights"];
+    assert_eq!((w["style_stats"].as_f64(), w["content_shape"].as_f64()), (Some(1.0), Some(1.0)), "{config}");
 
     let out = root.join("weights");
     ok(cli(&["export", "--from", p(&weights), "--sup", p(&run), "-o", p(&out)]));

@@ -33,6 +33,12 @@ enum StageArgs {
         /// over time. 0: the paper's losses only.
         #[arg(long, default_value_t = 0.0, value_name = "WEIGHT")]
         style_stats: f32,
+        /// Weight of the content-shape loss (not in the paper; new runs): every swap's decoded
+        /// features, each standardised over the window (its mean and spread removed), are pulled
+        /// to its content clip's, so a style changes the statistics and keeps the content's
+        /// curves. 0: not used.
+        #[arg(long, default_value_t = 0.0, value_name = "WEIGHT")]
+        content_shape: f32,
     },
     /// The evaluation's style classifier, on the training takes only (`eval` uses it).
     Classifier(TrainOptions),
@@ -120,12 +126,12 @@ pub fn run(args: TrainArgs) -> anyhow::Result<()> {
         StageArgs::Ae(options) => (options, Stage::Ae),
         StageArgs::Classifier(options) => (options, Stage::Classifier),
         StageArgs::ContentClassifier(options) => (options, Stage::ContentClassifier),
-        StageArgs::Stylizer { options, ae, unsupervised, style_stats } => {
-            anyhow::ensure!(
-                style_stats.is_finite() && style_stats >= 0.0,
-                "--style-stats {style_stats}: the weight must be 0 or more"
-            );
-            (options, Stage::Stylizer { ae, supervised: !unsupervised, style_stats })
+        StageArgs::Stylizer { options, ae, unsupervised, style_stats, content_shape } => {
+            for (flag, w) in [("--style-stats", style_stats), ("--content-shape", content_shape)] {
+                anyhow::ensure!(w.is_finite() && w >= 0.0, "{flag} {w}: the weight must be 0 or more");
+            }
+            let extra = train::losses::ExtraLosses { style_stats, content_shape };
+            (options, Stage::Stylizer { ae, supervised: !unsupervised, extra })
         }
     };
     options.validate()?;

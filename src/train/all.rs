@@ -241,7 +241,7 @@ pub fn train_all(opts: &AllOptions) -> anyhow::Result<Report> {
     if labelled > 0 {
         plan.push((
             "sup",
-            Stage::Stylizer { ae: Some(ae_dir.clone()), supervised: true, style_stats: 0.0 },
+            Stage::Stylizer { ae: Some(ae_dir.clone()), supervised: true, extra: Default::default() },
             stylizer_steps,
         ));
     } else {
@@ -249,7 +249,7 @@ pub fn train_all(opts: &AllOptions) -> anyhow::Result<Report> {
     }
     plan.push((
         "unsup",
-        Stage::Stylizer { ae: Some(ae_dir.clone()), supervised: false, style_stats: 0.0 },
+        Stage::Stylizer { ae: Some(ae_dir.clone()), supervised: false, extra: Default::default() },
         stylizer_steps,
     ));
     if with_files >= 2 {

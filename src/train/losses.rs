@@ -130,7 +130,7 @@ pub fn autoencoder_loss(
 // Stylizer stage.
 
 /// Weights of the stylizer's loss `L = λ_rec L_rec + λ_hsa L_hsa + λ_cyc L_cyc + λ_kl L_kl
-/// (+ λ_stats L_stats)`.
+/// (+ λ_stats L_stats + λ_shape L_shape)`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct StylizerWeights {
     pub rec: f32,
@@ -142,13 +142,33 @@ pub struct StylizerWeights {
     /// ([`super::sampler::WindowSampler::content_partner`]).
     #[serde(default)]
     pub style_stats: f32,
+    /// `λ_shape` of the content-shape loss on every swap ([`content_shape`]; not in the paper:
+    /// 0 there).
+    #[serde(default)]
+    pub content_shape: f32,
+}
+
+/// The stylizer losses a run adds to the paper's (their weights; 0: not used).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ExtraLosses {
+    /// [`StylizerWeights::style_stats`].
+    pub style_stats: f32,
+    /// [`StylizerWeights::content_shape`].
+    pub content_shape: f32,
+}
+
+impl ExtraLosses {
+    pub fn any(&self) -> bool {
+        self.style_stats > 0.0 || self.content_shape > 0.0
+    }
 }
 
 impl StylizerWeights {
     /// Paper, supervised: (hsa, cyc, kl) = (1, 0.1, 0.1).
-    pub const SUPERVISED: Self = Self { rec: 1.0, hsa: 1.0, cyc: 0.1, kl: 0.1, style_stats: 0.0 };
+    pub const SUPERVISED: Self = Self { rec: 1.0, hsa: 1.0, cyc: 0.1, kl: 0.1, style_stats: 0.0, content_shape: 0.0 };
     /// Paper, unsupervised: (hsa, cyc, kl) = (0.1, 1, 0.01).
-    pub const UNSUPERVISED: Self = Self { rec: 1.0, hsa: 0.1, cyc: 1.0, kl: 0.01, style_stats: 0.0 };
+    pub const UNSUPERVISED: Self =
+        Self { rec: 1.0, hsa: 0.1, cyc: 1.0, kl: 0.01, style_stats: 0.0, content_shape: 0.0 };
 
     /// The paper's weights for the given mode.
     pub fn paper(supervised: bool) -> Self {
@@ -195,6 +215,25 @@ pub fn style_statistics(decoded: Tensor<3>, target: Tensor<3>) -> Tensor<1> {
     smooth_l1(m, mt) + smooth_l1(s, st)
 }
 
+/// Spread floor of [`content_shape`]'s standardisation, in normalised feature units: a feature
+/// that barely moves within a window is compared on its (damped) deviations, not blown up.
+const SHAPE_SPREAD_FLOOR: f32 = 0.1;
+
+/// Content-shape loss (ours, not the paper's): the swap `G(c_A, s_B)` keeps clip `A`'s timing,
+/// so after removing each feature's mean and spread over the window — what the style-statistics
+/// loss hands to the style — what is left, the shape of every feature's curve over time, should
+/// be `A`'s. Smooth-L1 of the time-standardised `[B, 260, T]` decoded swaps against the
+/// time-standardised content clips (spreads floored at [`SHAPE_SPREAD_FLOOR`]).
+pub fn content_shape(decoded: Tensor<3>, content: Tensor<3>) -> Tensor<1> {
+    let standardise = |x: Tensor<3>| {
+        let mean = x.clone().mean_dim(2);
+        let centred = x - mean;
+        let spread = (centred.clone().square().mean_dim(2) + 1e-6).sqrt().clamp_min(SHAPE_SPREAD_FLOOR);
+        centred / spread
+    };
+    smooth_l1(standardise(decoded), standardise(content))
+}
+
 /// The stylizer's loss terms for one batch (unweighted, plus the weighted total).
 #[derive(Clone, Debug)]
 pub struct StylizerLosses {
@@ -214,6 +253,8 @@ pub struct StylizerLosses {
     /// `L_stats`: [`style_statistics`] of the content-paired swaps `D(zᵗ)` against `P³` (0 when
     /// the batch has none or its weight is 0).
     pub style_stats: Tensor<1>,
+    /// `L_shape`: [`content_shape`] of every swap `D(zᵗ)` against `P²` (0 when its weight is 0).
+    pub content_shape: Tensor<1>,
 }
 
 /// The row permutation that picks "another clip" `z³` for every row: rows swapped in pairs
@@ -243,8 +284,8 @@ pub fn partner_permutation(batch: usize) -> Vec<usize> {
 /// - Pose space: every reconstruction is decoded by the frozen decoder `D` and compared with the
 ///   clip's 260-D features.
 /// - `L = λ_rec L_rec + λ_cyc L_cyc + λ_kl L_kl + λ_hsa L_hsa (+ λ_stats L_stats)` (see
-///   [`StylizerLosses`]; `L_stats`, ours, on the rows of `inputs.content_paired`:
-///   [`style_statistics`]`(D(zᵗ), P³)`).
+///   [`StylizerLosses`]; ours: `L_stats` on the rows of `inputs.content_paired`,
+///   [`style_statistics`]`(D(zᵗ), P³)`, and `L_shape` on every row, [`content_shape`]`(D(zᵗ), P²)`).
 pub fn stylizer_loss(
     net: &Stylizer,
     decoder: &MotionDecoder,
@@ -307,23 +348,36 @@ pub fn stylizer_loss(
     let g = net.generator.forward(stack3(vec![ct, c3.detach()]), stack2(vec![s2b, st]), stack_labels(vec![&sl, &sl3]));
     let (rr2, rr3) = (rows(g.clone(), 0), rows(g, 1));
 
-    // Pose space: one pass of the frozen decoder over [ẑ¹; ẑ²; z̃²; z̃³] and, for the
-    // style-statistics loss, the content-paired swaps zᵗ.
+    // Pose space: one pass of the frozen decoder over [ẑ¹; ẑ²; z̃²; z̃³] and the swaps zᵗ the
+    // extra losses judge: every row for the content-shape loss, else the content-paired rows.
     let paired = (weights.style_stats > 0.0 && !inputs.content_paired.is_empty()).then(|| {
         let rows: Vec<i64> = inputs.content_paired.iter().map(|&i| i as i64).collect();
         Tensor::<1, Int>::from_data(TensorData::new(rows, [inputs.content_paired.len()]), &device)
     });
+    let shape = weights.content_shape > 0.0;
     let mut decoded = vec![r1.clone(), r2.clone(), rr2.clone(), rr3.clone()];
-    if let Some(rows) = &paired {
+    let swaps = match (&paired, shape) {
+        (_, true) => batch,
+        (Some(rows), false) => rows.dims()[0],
+        (None, false) => 0,
+    };
+    if shape {
+        decoded.push(zt);
+    } else if let Some(rows) = &paired {
         decoded.push(zt.select(0, rows.clone()));
     }
     let poses = decoder.forward(stack3(decoded));
-    let style_stats = match &paired {
-        Some(rows) => {
-            let n = rows.dims()[0];
-            style_statistics(poses.clone().narrow(0, 4 * batch, n), m3.clone().select(0, rows.clone()))
+    let swap_poses = (swaps > 0).then(|| poses.clone().narrow(0, 4 * batch, swaps));
+    let style_stats = match (&paired, &swap_poses) {
+        (Some(rows), Some(p)) => {
+            let judged = if shape { p.clone().select(0, rows.clone()) } else { p.clone() };
+            style_statistics(judged, m3.clone().select(0, rows.clone()))
         }
-        None => Tensor::zeros([1], &device),
+        _ => Tensor::zeros([1], &device),
+    };
+    let content_shape = match (&swap_poses, shape) {
+        (Some(p), true) => self::content_shape(p.clone(), inputs.motion2.clone()),
+        _ => Tensor::zeros([1], &device),
     };
     let rec_latent = smooth_l1(r1, z1) + smooth_l1(r2, z2.clone());
     let rec_pose = smooth_l1(rows(poses.clone(), 0), inputs.motion1.clone())
@@ -337,8 +391,9 @@ pub fn stylizer_loss(
         + (cyc_latent.clone() + cyc_pose.clone()) * weights.cyc
         + kl.clone() * weights.kl
         + hsa.clone() * weights.hsa
-        + style_stats.clone() * weights.style_stats;
-    StylizerLosses { total, rec_latent, rec_pose, cyc_latent, cyc_pose, kl, hsa, style_stats }
+        + style_stats.clone() * weights.style_stats
+        + content_shape.clone() * weights.content_shape;
+    StylizerLosses { total, rec_latent, rec_pose, cyc_latent, cyc_pose, kl, hsa, style_stats, content_shape }
 }
 
 #[cfg(test)]
@@ -364,5 +419,17 @@ mod tests {
         let posture = loss(wave(1.0, 0.0, 0), wave(1.0, 0.4, 0));
         assert!(swing > 0.01 && posture > 0.01, "swing {swing}, posture {posture}");
         assert!(loss(wave(1.0, 0.0, 0), wave(1.0, 0.8, 0)) > 2.0 * posture);
+    }
+
+    #[test]
+    fn content_shape_ignores_posture_and_swing_and_sees_timing() {
+        let loss = |a: Tensor<3>, b: Tensor<3>| content_shape(a, b).into_scalar::<f32>();
+        // Another posture or a larger swing of the same curve: the same shape.
+        assert!(loss(wave(1.0, 0.0, 0), wave(1.5, 0.4, 0)) < 1e-6);
+        // The same curve at another phase: the content's timing is lost, and the loss sees it.
+        let shifted = loss(wave(1.0, 0.0, 0), wave(1.0, 0.0, 4));
+        assert!(shifted > 0.3, "phase shift {shifted}");
+        // A feature that barely moves is not blown up into a full curve.
+        assert!(loss(wave(0.001, 0.0, 0), wave(0.001, 0.0, 8)) < 1e-3);
     }
 }

@@ -94,9 +94,10 @@ pub enum Stage {
     Ae,
     /// Stylizer on the frozen autoencoder of an `ae` run (`ae`: its folder or a checkpoint file;
     /// needed for a new run, ignored on resume: the run keeps its own copy).
-    /// `style_stats`: the weight of the style-statistics loss on content-paired swaps (0: the
-    /// paper's losses only; see [`losses::style_statistics`]).
-    Stylizer { ae: Option<PathBuf>, supervised: bool, style_stats: f32 },
+    /// `extra`: the weights of the losses added to the paper's (the style-statistics loss on
+    /// content-paired swaps, the content-shape loss on every swap; 0: the paper's losses only;
+    /// see [`losses::style_statistics`], [`losses::content_shape`]).
+    Stylizer { ae: Option<PathBuf>, supervised: bool, extra: losses::ExtraLosses },
     /// The evaluation's style classifier (training takes only; see [`classifier`]).
     Classifier,
     /// The evaluation's content classifier: the same network and training on the content classes

@@ -25,6 +25,7 @@ use std::path::{Path, PathBuf};
 use super::Stage;
 use super::finetune;
 pub use super::logs::{CsvLog, CsvTable, RunLog, Segment, machine_description, unix_now};
+use super::losses::ExtraLosses;
 use super::sampler::RngState;
 use super::settings::{Settings, TrainConfig, TrainOptions};
 use crate::dataset::folder::{self, FolderListing};
@@ -214,11 +215,11 @@ fn ae_source(path: &Path) -> anyhow::Result<(RunConfig, Checkpoint, NormStats)> 
 }
 
 /// How a stylizer run draws its batches (recorded in `config.json`).
-fn stylizer_sampler(style_stats: f32) -> String {
+fn stylizer_sampler(extra: ExtraLosses) -> String {
     let mut s = "style-balanced: a style uniformly, a clip of it uniformly, two windows of that clip at independent \
                  uniform offsets"
         .to_string();
-    if style_stats > 0.0 {
+    if extra.style_stats > 0.0 {
         s.push_str(
             "; rows 4k+1 (when the data has one): a clip of row 4k's content group in another style (a style \
              uniformly among the group's others, a clip of it uniformly)",
@@ -228,10 +229,13 @@ fn stylizer_sampler(style_stats: f32) -> String {
 }
 
 /// A stylizer run's optimisation settings: the defaults, with the paper's loss weights and the
-/// style-statistics weight when it is used.
-fn stylizer_train(supervised: bool, style_stats: f32) -> TrainConfig {
-    let weights = (style_stats > 0.0)
-        .then_some(super::losses::StylizerWeights { style_stats, ..super::losses::StylizerWeights::paper(supervised) });
+/// extra losses' weights when they are used.
+fn stylizer_train(supervised: bool, extra: ExtraLosses) -> TrainConfig {
+    let weights = extra.any().then_some(super::losses::StylizerWeights {
+        style_stats: extra.style_stats,
+        content_shape: extra.content_shape,
+        ..super::losses::StylizerWeights::paper(supervised)
+    });
     TrainConfig { stylizer_weights: weights, ..TrainConfig::default() }
 }
 
@@ -379,7 +383,7 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
             ae: None,
             norm: None,
         },
-        Stage::Stylizer { ae: None, supervised, style_stats } if opts.from.is_some() => {
+        Stage::Stylizer { ae: None, supervised, extra } if opts.from.is_some() => {
             // Fine-tuning a stylizer alone: the frozen autoencoder and regressor are the weights
             // folder's, as they were trained with (its `shared` networks).
             let dir = opts.from.as_deref().context("--from")?;
@@ -400,13 +404,13 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
                 supervised: Some(*supervised),
                 model: base.model.clone().with_supervised(*supervised),
                 ae_run: Some(format!("{} (its autoencoder and regressor)", dir.display())),
-                sampler: stylizer_sampler(*style_stats),
-                train: stylizer_train(*supervised, *style_stats),
+                sampler: stylizer_sampler(*extra),
+                train: stylizer_train(*supervised, *extra),
                 ..base
             };
             OpenRun { config, resume_from: None, ae: Some(ae_ckpt), norm: Some(norm) }
         }
-        Stage::Stylizer { ae, supervised, style_stats } => {
+        Stage::Stylizer { ae, supervised, extra } => {
             let ae = ae.as_ref().context("the stylizer stage needs --ae DIR (an `ae` run), or --from WEIGHTS")?;
             let (ae_config, ae_ckpt, norm) = ae_source(ae)?;
             if let Some(w) = opts.settings.width
@@ -432,8 +436,8 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
                 model: ae_config.model.clone().with_supervised(*supervised).with_num_styles(classes),
                 ae_run: Some(ae.display().to_string()),
                 ae_step: Some(ae_ckpt.meta.step),
-                sampler: stylizer_sampler(*style_stats),
-                train: stylizer_train(*supervised, *style_stats),
+                sampler: stylizer_sampler(*extra),
+                train: stylizer_train(*supervised, *extra),
                 ..base
             };
             OpenRun { config, resume_from: None, ae: Some(ae_ckpt), norm: Some(norm) }

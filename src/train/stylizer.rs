@@ -50,6 +50,8 @@ step_report! {
         pub hsa,
         /// The style-statistics loss of the content-paired swaps (0 without them).
         pub style_stats,
+        /// The content-shape loss of the swaps (0 without it).
+        pub content_shape,
         /// Gradient norms before clipping: content + style encoders, generator.
         pub encoders_grad_norm,
         pub generator_grad_norm,
@@ -184,7 +186,7 @@ impl StylizerTrainer {
         let generator_grad_norm = clip_grad_norm(&self.net.generator, &mut g, clip);
         let t3 = Instant::now();
 
-        let [loss, rec_latent, rec_pose, cyc_latent, cyc_pose, kl, hsa, style_stats] = read_scalars([
+        let [loss, rec_latent, rec_pose, cyc_latent, cyc_pose, kl, hsa, style_stats, content_shape] = read_scalars([
             losses.total,
             losses.rec_latent,
             losses.rec_pose,
@@ -193,6 +195,7 @@ impl StylizerTrainer {
             losses.kl,
             losses.hsa,
             losses.style_stats,
+            losses.content_shape,
         ]);
         self.net = self.optim.step(self.train.lr, self.net.clone(), g);
         if let Some(p) = &mut self.phases {
@@ -207,6 +210,7 @@ impl StylizerTrainer {
             kl,
             hsa,
             style_stats,
+            content_shape,
             encoders_grad_norm,
             generator_grad_norm,
         })
