@@ -1,17 +1,22 @@
-"""Reads our shipped weight bundles (`assets/weights/*.bin`) into numpy arrays, no Rust needed.
+"""Reads our shipped weights (`assets/weights/*.bin`) into numpy arrays, no Rust needed.
 
-Bundle layout (src/model/weights.rs): b"MSTYLZ01" | u32 LE config-JSON length | config JSON |
-burnpack bytes. Burnpack (burn-pack 0.22, see its lib.rs): u32 magic 0x4255524E | u16 version |
+Format 2 (src/model/weights.rs, today's folders): part files, b"MSTYPT01" | u32 LE header-JSON
+length | header JSON {part, config, tensors: [{path, shape, encoding, offset, len}]} | payload;
+`shared.bin` holds the autoencoder and regressor, `supervised.bin` / `unsupervised.bin` a stylizer
+(its paths without the `stylizer.` prefix). Format 1 bundle: b"MSTYLZ01" | u32 LE config-JSON
+length | config JSON | burnpack bytes. Burnpack (burn-pack 0.22, see its lib.rs): u32 magic 0x4255524E | u16 version |
 u32 metadata size | CBOR metadata {tensors: {name: {dtype, shape, data_offsets, param_id}},
 metadata} | padding to 256 bytes | tensor data (offsets relative to the data section).
 """
 
 import json
+import os
 import struct
 
 import numpy as np
 
 BUNDLE_MAGIC = b"MSTYLZ01"
+PART_MAGIC = b"MSTYPT01"
 BURNPACK_MAGIC = 0x4255524E
 BURNPACK_HEADER = 10
 ALIGN = 256
@@ -111,12 +116,47 @@ def read_burnpack(data):
     return out
 
 
+def read_part(path):
+    """(header dict, {parameter path: float32 array}) of a format-2 part file (f16 tensors; the
+    int encodings are not read here: the benchmark runs the shipped f16 weights)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    if data[:8] != PART_MAGIC:
+        raise ValueError(f"{path}: not a motion-stylizer weights part")
+    (n,) = struct.unpack_from("<I", data, 8)
+    header = json.loads(data[12:12 + n])
+    payload = memoryview(data)[12 + n:]
+    out = {}
+    for t in header["tensors"]:
+        if t["encoding"] != "f16":
+            raise ValueError(f"{path}: {t['path']}: encoding {t['encoding']!r} (only f16 is read here)")
+        count = int(np.prod(t["shape"], dtype=np.int64))
+        if t["len"] != 2 * count or t["offset"] + t["len"] > len(payload):
+            raise ValueError(f"{path}: {t['path']}: {t['len']} bytes for shape {t['shape']}")
+        arr = np.frombuffer(payload, dtype="<f2", count=count, offset=t["offset"])
+        out[t["path"]] = arr.reshape(t["shape"]).astype(np.float32)
+    return header, out
+
+
 def read_bundle(path):
-    """(config dict, {parameter path: float32 array}) of one of our weight bundles."""
+    """(config dict, {parameter path: float32 array}) of one model: a format-1 bundle, or a
+    format-2 stylizer part with the `shared.bin` beside it (paths as format 1's: `autoencoder.…`,
+    `regressor.…`, `stylizer.…`)."""
+    with open(path, "rb") as f:
+        magic = f.read(8)
+    if magic == PART_MAGIC:
+        header, stylizer = read_part(path)
+        if header["part"] != "stylizer":
+            raise ValueError(f"{path}: holds the {header['part']} networks, not a stylizer")
+        shared_header, tensors = read_part(os.path.join(os.path.dirname(os.path.abspath(path)), "shared.bin"))
+        if shared_header["part"] != "shared":
+            raise ValueError(f"{path}: the shared.bin beside it holds the {shared_header['part']} networks")
+        tensors.update({"stylizer." + k: v for k, v in stylizer.items()})
+        return header["config"], tensors
     with open(path, "rb") as f:
         data = f.read()
     if data[:8] != BUNDLE_MAGIC:
-        raise ValueError(f"{path}: not a motion-stylizer weights bundle")
+        raise ValueError(f"{path}: not a motion-stylizer weights bundle or part")
     (n,) = struct.unpack_from("<I", data, 8)
     config = json.loads(data[12:12 + n])
     return config, read_burnpack(data[12 + n:])
