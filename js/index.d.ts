@@ -4,6 +4,7 @@
 export type ErrorCode =
   | 'BVH_PARSE' // the text is not BVH the reader accepts (also has `line` and `kind`)
   | 'RIG_UNMATCHED' // the skeleton lacks joints the canonical rig needs
+  | 'BAD_MAP' // a manual joint mapping that cannot be used (a joint the file lacks, one given twice, ...)
   | 'RIG_DEGENERATE' // the skeleton has no usable geometry
   | 'NOT_HUMAN' // the skeleton is no human body (a quadruped, a single chain, limbs the wrong way)
   | 'RIG_MISMATCH'
@@ -73,6 +74,36 @@ export interface LoadOptions {
 }
 
 /** An imported motion: resampled to 30 fps and retargeted onto the canonical rig inside. */
+/**
+ * A manual joint mapping: canonical joint (Hips, Spine, Chest, Neck, Head, Shoulder_L,
+ * UpperArm_L, LowerArm_L, Hand_L, UpperLeg_L, LowerLeg_L, Foot_L, Toes_L and the _R ones) → the
+ * file's joint name, or null to leave it unmatched (synthesised, or an error for an essential
+ * joint). Joints not named keep the automatic match.
+ */
+export type JointMap = Record<string, string | null>;
+
+/** `inspectBvh`'s result (the JSON of `motion-stylizer inspect --json`, without `file`). */
+export interface Inspection {
+  joints: number;
+  joint_names: string[];
+  frames: number;
+  fps: number;
+  duration_s: number;
+  channels: number;
+  rig: string;
+  matched: Record<string, string>;
+  missing: string[];
+  synthesised: Record<string, string>;
+  /** Whether importBvh succeeds (with the same map). */
+  retargetable: boolean;
+  error: { code: string; message: string } | null;
+  scale_to_canonical: number | null;
+  base_pose: string | null;
+  notes: string[];
+  /** The mapping used, or the best guesses: every canonical joint, ready to edit. */
+  map: JointMap;
+}
+
 export class Motion {
   readonly frames: number;
   readonly fps: number;
@@ -209,7 +240,13 @@ export class Stylizer {
   settings(): Array<'supervised' | 'unsupervised'>;
   /** The models loaded now. */
   loadedSettings(): Array<'supervised' | 'unsupervised'>;
-  importBvh(text: string): Motion;
+  /**
+   * Imports BVH text of any rig the importer knows (errors BVH_PARSE, BAD_MAP, RIG_UNMATCHED,
+   * RIG_DEGENERATE, NOT_HUMAN, TOO_LONG, BAD_MOTION); `map` is applied over the automatic match.
+   */
+  importBvh(text: string, options?: { map?: JointMap }): Motion;
+  /** What the importer makes of BVH text, also when it cannot import it (`motion-stylizer inspect --json`). */
+  inspectBvh(text: string, options?: { map?: JointMap }): Inspection;
   stylize(content: Motion | string, options: StylizeOptions): Promise<StylizedMotion[]>;
   /** The supervised model's style label for a reference (the one it reconstructs the motion best under). */
   inferLabel(reference: Motion | string): string;

@@ -325,14 +325,28 @@ function styleSpec(stylizer, o, depth) {
 const MAX_SOURCE_VALUES = 6_000_000;
 
 /** An imported motion (30 fps, canonical rig inside), ready to be stylized or used as a style. */
+/** The `map` option as JSON for the engine (undefined when absent). */
+function mapJson(options, what) {
+  if (options == null || typeof options !== 'object') throw codedError('BAD_REQUEST', `${what}: options must be an object`);
+  const { map } = options;
+  if (map == null) return undefined;
+  if (typeof map !== 'object' || Array.isArray(map)) {
+    throw codedError('BAD_REQUEST', `${what}: map must be an object {canonicalJoint: fileJoint | null}`);
+  }
+  return JSON.stringify(map);
+}
+
 export class Motion {
   #text;
   #inner;
   #made;
 
+  #map;
+
   /** @internal */
-  constructor(text, inner) {
+  constructor(text, map, inner) {
     this.#text = text;
+    this.#map = map;
     this.#inner = inner;
     this.#made = generation;
   }
@@ -344,7 +358,7 @@ export class Motion {
   /** The engine's motion; imported again from the text if the instance was replaced or it was freed. */
   #live() {
     if (this.#inner == null || this.#made !== generation) {
-      this.#inner = guard(() => wasm.Motion.fromBvh(this.#text));
+      this.#inner = guard(() => wasm.Motion.fromBvh(this.#text, this.#map));
       this.#made = generation;
     }
     return this.#inner;
@@ -662,10 +676,27 @@ export class Stylizer {
     return guard(() => this.#live().styles());
   }
 
-  /** Imports BVH text of any rig the importer knows; errors BVH_PARSE, RIG_UNMATCHED, ... */
-  importBvh(text) {
+  /**
+   * Imports BVH text of any rig the importer knows; errors BVH_PARSE, BAD_MAP, RIG_UNMATCHED, ...
+   * `options.map`: a manual joint mapping {canonicalJoint: fileJoint | null} (as inspectBvh's
+   * `map`), applied over the automatic match.
+   */
+  importBvh(text, options = {}) {
     if (typeof text !== 'string') throw codedError('BAD_REQUEST', 'importBvh takes the BVH text as a string');
-    return new Motion(text, guard(() => wasm.Motion.fromBvh(text)));
+    const map = mapJson(options, 'importBvh');
+    return new Motion(text, map, guard(() => wasm.Motion.fromBvh(text, map)));
+  }
+
+  /**
+   * What the importer makes of BVH text, also when it cannot import it: {rig, joint_names,
+   * matched, missing, synthesised, retargetable, error: {code, message} | null, map, ...} — `map`
+   * is the mapping used, or the best guesses, every canonical joint present, ready to edit and
+   * pass to importBvh. Throws only for text that is no BVH (BVH_PARSE) or a bad map (BAD_MAP).
+   */
+  inspectBvh(text, options = {}) {
+    if (typeof text !== 'string') throw codedError('BAD_REQUEST', 'inspectBvh takes the BVH text as a string');
+    const map = mapJson(options, 'inspectBvh');
+    return JSON.parse(guard(() => wasm.inspectBvh(text, map)));
   }
 
   /** @internal */

@@ -56,7 +56,7 @@ fn err_code<T>(r: Result<T, JsValue>) -> String {
 }
 
 fn import(text: &str) -> ImportedMotion {
-    ImportedMotion::from_bvh(text).unwrap_or_else(|e| panic!("import: {}", message(&e)))
+    ImportedMotion::from_bvh(text, None).unwrap_or_else(|e| panic!("import: {}", message(&e)))
 }
 
 /// An object of `(key, value)` properties.
@@ -113,7 +113,7 @@ fn check_output(out: &StylizedMotion, frames: usize) {
 #[wasm_bindgen_test]
 fn every_foreign_fixture_imports_with_its_rig() {
     for ((name, text), rig) in FOREIGN.iter().zip(RIGS) {
-        let c = ImportedMotion::from_bvh(text).unwrap_or_else(|e| panic!("{name}: {}", message(&e)));
+        let c = ImportedMotion::from_bvh(text, None).unwrap_or_else(|e| panic!("{name}: {}", message(&e)));
         assert_eq!(&c.rig(), rig, "{name}");
         assert!(c.frames() >= 1, "{name}");
         assert_eq!(c.fps(), 30.0);
@@ -211,7 +211,7 @@ fn malformed_bvh_gives_bvh_parse_with_line_and_kind() {
         (include_str!("malformed/channels_over_limit.bvh"), "LimitExceeded", 5),
     ];
     for &(text, kind, line) in CASES {
-        let e = match ImportedMotion::from_bvh(text) {
+        let e = match ImportedMotion::from_bvh(text, None) {
             Ok(_) => panic!("parsed: {text:.60}"),
             Err(e) => e,
         };
@@ -261,7 +261,7 @@ fn the_source_file_gives_its_own_joint_positions() {
 
 #[wasm_bindgen_test]
 fn rigs_that_cannot_be_used_give_rig_codes() {
-    assert_eq!(err_code(ImportedMotion::from_bvh(SMALL)), "RIG_UNMATCHED");
+    assert_eq!(err_code(ImportedMotion::from_bvh(SMALL, None)), "RIG_UNMATCHED");
     // The m21 walk with every bone of zero length.
     let flat: String = FOREIGN[3]
         .1
@@ -269,7 +269,7 @@ fn rigs_that_cannot_be_used_give_rig_codes() {
         .map(|l| if l.trim_start().starts_with("OFFSET") { "OFFSET 0 0 0" } else { l })
         .collect::<Vec<_>>()
         .join("\n");
-    assert_eq!(err_code(ImportedMotion::from_bvh(&flat)), "RIG_DEGENERATE");
+    assert_eq!(err_code(ImportedMotion::from_bvh(&flat, None)), "RIG_DEGENERATE");
 }
 
 #[wasm_bindgen_test]
@@ -472,8 +472,8 @@ fn hostile_inputs_give_results_or_codes_never_a_trap() {
         ];
         for (name, text, expected) in &cases {
             assert!(frame_rows(text) >= 1, "{name}");
-            let outcome = ImportedMotion::from_bvh(text).and_then(|content| {
-                let reference = ImportedMotion::from_bvh(text)?;
+            let outcome = ImportedMotion::from_bvh(text, None).and_then(|content| {
+                let reference = ImportedMotion::from_bvh(text, None)?;
                 let styles = [
                     (StyleSpec::label("old".into()), false),
                     (StyleSpec::motion(&reference, None), true),

@@ -11,6 +11,7 @@
 pub mod canonical;
 pub mod fk;
 mod import;
+mod inspect;
 mod manual;
 pub mod resample;
 pub mod retarget;
@@ -22,5 +23,6 @@ mod tpose;
 
 pub use canonical::{FPS, JOINT_NAMES, NUM_JOINTS};
 pub use import::{ImportError, Imported, canonical_bvh, import, import_bvh, import_bvh_with, import_with};
+pub use inspect::{Inspection, inspect};
 pub use manual::{ManualMap, map_json};
 pub use retarget::{RigReport, UserRig};

@@ -26,6 +26,6 @@ mod style;
 mod stylized;
 
 pub use engine::{Engine, weight_file_list};
-pub use motion::ImportedMotion;
+pub use motion::{ImportedMotion, inspect_bvh};
 pub use style::StyleSpec;
 pub use stylized::{StylizedMotion, ThreePose};

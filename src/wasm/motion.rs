@@ -11,7 +11,7 @@ use super::error::import_error;
 use super::panic;
 use crate::Motion;
 use crate::bvh::Bvh;
-use crate::skeleton::{self, FPS, ImportError, UserRig};
+use crate::skeleton::{self, FPS, ImportError, ManualMap, UserRig};
 
 /// An imported motion: 30 fps on the canonical rig, the rig it came from, and the source file.
 #[wasm_bindgen(js_name = Motion)]
@@ -23,13 +23,16 @@ pub struct ImportedMotion {
 
 #[wasm_bindgen(js_class = Motion)]
 impl ImportedMotion {
-    /// Parses BVH text of any rig the importer accepts. Errors: `BVH_PARSE` (with `line`, `kind`),
-    /// `RIG_UNMATCHED`, `RIG_DEGENERATE`, `NOT_HUMAN`, `TOO_LONG`, `BAD_MOTION`.
+    /// Parses BVH text of any rig the importer accepts; `map`: a manual joint mapping's JSON
+    /// (canonical joint → the file's joint, as `inspectBvh`'s `map`), applied over the automatic
+    /// match. Errors: `BVH_PARSE` (with `line`, `kind`), `BAD_MAP`, `RIG_UNMATCHED`,
+    /// `RIG_DEGENERATE`, `NOT_HUMAN`, `TOO_LONG`, `BAD_MOTION`.
     #[wasm_bindgen(js_name = fromBvh)]
-    pub fn from_bvh(text: &str) -> Result<ImportedMotion, JsValue> {
+    pub fn from_bvh(text: &str, map: Option<String>) -> Result<ImportedMotion, JsValue> {
         panic::install();
         let source = Bvh::parse(text).map_err(|e| import_error(&ImportError::from(e)))?;
-        let imported = skeleton::import(&source).map_err(|e| import_error(&e))?;
+        let manual = manual_map(map.as_deref())?;
+        let imported = skeleton::import_with(&source, manual.as_ref()).map_err(|e| import_error(&e))?;
         Ok(ImportedMotion { motion: Rc::new(imported.motion), rig: Rc::new(imported.rig), source })
     }
 
@@ -88,4 +91,23 @@ impl ImportedMotion {
     pub fn source_positions(&self, step: usize) -> Vec<f32> {
         drawing::positions(&self.source, step)
     }
+}
+
+/// A manual mapping from its JSON, if given (`BAD_MAP` when it is not one).
+fn manual_map(map: Option<&str>) -> Result<Option<ManualMap>, JsValue> {
+    map.map(ManualMap::from_json).transpose().map_err(|e| import_error(&e))
+}
+
+/// What the importer makes of BVH text, also when it cannot import it: the JSON of
+/// `motion-stylizer inspect --json` (without `file`): `rig`, `joint_names`, `matched`, `missing`,
+/// `synthesised`, `retargetable`, `error` ({code, message}), `map` (the mapping used, or the best
+/// guesses, every canonical joint present, ready to edit and pass back as `map`). Throws only for
+/// text that is no BVH (`BVH_PARSE`) or a `map` that is no mapping (`BAD_MAP`).
+#[wasm_bindgen(js_name = inspectBvh)]
+pub fn inspect_bvh(text: &str, map: Option<String>) -> Result<String, JsValue> {
+    panic::install();
+    let source = Bvh::parse(text).map_err(|e| import_error(&ImportError::from(e)))?;
+    let manual = manual_map(map.as_deref())?;
+    let (found, _) = skeleton::inspect(&source, manual.as_ref());
+    Ok(found.to_json(&source).to_string())
 }

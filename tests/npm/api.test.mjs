@@ -41,6 +41,47 @@ test('importBvh: rig, frames, report', () => {
   assert.equal(m.rigReport().missing.length, 0);
 });
 
+test('inspectBvh and importBvh({ map }): a manual mapping round trip', async () => {
+  // The m21 walk with every joint renamed: the mapping by hand is m21's own match under the new names.
+  const names = [];
+  const renamed = walk.replace(/^(\s*(?:ROOT|JOINT)\s+)(\S+)/gm, (_, head, name) => {
+    names.push(name);
+    return `${head}j${names.length - 1}`;
+  });
+  const original = s.importBvh(walk);
+  const byHand = {};
+  for (const [canonical, joint] of original.rigReport().matched) byHand[canonical] = `j${names.indexOf(joint)}`;
+  assert.equal(Object.keys(byHand).length, 21);
+
+  const info = s.inspectBvh(renamed);
+  assert.equal(Object.keys(info.map).length, 21, 'every canonical joint, ready to edit');
+  assert.deepEqual(info.joint_names, names.map((_, i) => `j${i}`));
+  const small = s.inspectBvh(read(fixture('small.bvh')));
+  assert.equal(small.retargetable, false);
+  assert.equal(small.error.code, 'RIG_UNMATCHED');
+  assert.equal(Object.keys(small.map).length, 21);
+
+  const mapped = s.inspectBvh(renamed, { map: byHand });
+  assert.equal(mapped.retargetable, true, JSON.stringify(mapped.error));
+  assert.equal(mapped.rig, 'manual');
+  assert.deepEqual(mapped.map, byHand, 'the mapping used is the one given');
+  const m = s.importBvh(renamed, { map: byHand });
+  assert.equal(m.rig, 'manual');
+  assert.equal(m.frames, original.frames);
+  // The same canonical motion: the same stylization, bit for bit (the output's rig is the file's).
+  const [a] = await s.stylize(original, { label: 'old', seed: 5 });
+  const [b] = await s.stylize(m, { label: 'old', seed: 5 });
+  assert.deepEqual(b.positions(), a.positions());
+  // Kept across a fresh engine: the Motion is imported again with its map.
+  m.free();
+  assert.equal(m.rig, 'manual');
+
+  await rejects(() => s.importBvh(renamed, { map: { Hips: 'no_such_joint' } }), 'BAD_MAP');
+  await rejects(() => s.importBvh(renamed, { map: { Pelvis: 'j0' } }), 'BAD_MAP');
+  await rejects(() => s.inspectBvh(renamed, { map: ['j0'] }), 'BAD_REQUEST');
+  await rejects(() => s.importBvh(renamed, 'j0'), 'BAD_REQUEST');
+});
+
 test('stylize: outputs with BVH, positions and skeleton, on either rig', async () => {
   const content = s.importBvh(walk);
   const outs = await s.stylize(content, { label: 'old', samples: 2, seed: 3 });
