@@ -78,6 +78,16 @@ fn a_manual_map_round_trips_through_inspect() {
     assert_eq!(info["rig"], "manual");
     assert_eq!(info["map"], serde_json::Value::Object(map.clone()), "the mapping used is the one given");
 
+    // An essential joint left out: not retargetable, and the map printed is the one given (to edit).
+    let mut partial = map.clone();
+    partial.insert("Hand_L".into(), serde_json::Value::Null);
+    let partial_file = tmp("partial.json");
+    std::fs::write(&partial_file, serde_json::Value::Object(partial.clone()).to_string()).unwrap();
+    let info_partial = run_json(&["inspect", f, "--json", "--map", partial_file.to_str().unwrap()]);
+    assert_eq!(info_partial["retargetable"], false);
+    assert_eq!(info_partial["error"]["code"], "RIG_UNMATCHED", "{info_partial}");
+    assert_eq!(info_partial["map"], serde_json::Value::Object(partial));
+
     // inspect's whole output is a mapping file too.
     let again_file = tmp("inspect.json");
     std::fs::write(&again_file, serde_json::to_string(&info).unwrap()).unwrap();

@@ -16,7 +16,8 @@ use crate::bvh::Bvh;
 pub struct Inspection {
     /// The rig family detected (or guessed, on failure).
     pub rig: String,
-    /// The mapping used (or the best guesses, on failure): canonical joint → file joint index.
+    /// The mapping used (or, on failure, the best guesses with a manual mapping's entries
+    /// applied): canonical joint → file joint index.
     pub map: JointMap,
     /// Canonical joints the file lacks.
     pub missing: Vec<String>,
@@ -99,6 +100,8 @@ pub fn inspect(bvh: &Bvh, manual: Option<&ManualMap>) -> (Inspection, Option<Imp
                 Ok(d) => (d.rig.to_string(), d.map),
                 Err(u) => (u.rig.to_string(), *u.map),
             };
+            // A mapping given by hand stays in the guesses (what was chosen is what to edit next).
+            let guess = manual.and_then(|m| m.apply(&bvh.joints, Some(guess)).ok()).unwrap_or(guess);
             let (rig, missing) = match &e {
                 ImportError::MissingJoints { missing, rig } => (rig.clone(), missing.clone()),
                 _ => (rig, Vec::new()),

@@ -182,10 +182,86 @@ test('a malformed file shows an error and the page keeps working', async () => {
   // A rig the importer cannot match (two joints).
   await page.setInputFiles('#content-file', fixture('small.bvh'));
   await page.waitForFunction(() => /RIG_/.test(document.getElementById('error').textContent));
-  // The previous content stays and still stylizes.
+  // It opens the joint-mapping panel; cancelled, the previous content stays and still stylizes.
+  await page.waitForSelector('#map-panel:not([hidden])');
+  await page.click('#map-cancel');
   assert.match(await page.textContent('#content-info'), /dataset-2_walk_normal_001_f120\.bvh/);
   await stylize(page);
   assert.equal(await page.isVisible('#error'), false);
+  await page.context().close();
+});
+
+/** The m21 walk with its joints renamed j0, j1, … and a four-joint tail on the hips: no automatic match. */
+function tailedRig(text) {
+  let k = 0;
+  const renamed = text.replace(/^(\s*(?:ROOT|JOINT)\s+)(\S+)/gm, (_, head) => `${head}j${k++}`);
+  const lines = renamed.split(/\r?\n/);
+  const at = lines.findIndex((l) => /^\s*CHANNELS 6/.test(l)) + 1;
+  const tail = [];
+  for (let t = 0; t < 4; t++) tail.push(`JOINT tail${t}`, '{', 'OFFSET 0 -4 -15', 'CHANNELS 3 Zrotation Yrotation Xrotation');
+  tail.push('End Site', '{', 'OFFSET 0 -4 -15', '}', ...Array(4).fill('}'));
+  lines.splice(at, 0, ...tail);
+  const motion = lines.findIndex((l) => /^Frame Time/.test(l)) + 1;
+  for (let i = motion; i < lines.length; i++) {
+    const v = lines[i].trim().split(/\s+/);
+    if (v.length > 6) lines[i] = [...v.slice(0, 6), ...Array(12).fill('0'), ...v.slice(6)].join(' ');
+  }
+  return lines.join('\n');
+}
+
+/** The m21 walk's joints in file order, and the canonical joint each plays (`inspect --json`'s map). */
+const M21_JOINTS = ['Hips', 'LeftUpLeg', 'LeftLeg', 'LeftFoot', 'LeftToeBase', 'RightUpLeg', 'RightLeg', 'RightFoot', 'RightToeBase', 'Spine', 'Spine1', 'Neck1', 'Head', 'LeftShoulder', 'LeftArm', 'LeftForeArm', 'LeftHand', 'RightShoulder', 'RightArm', 'RightForeArm', 'RightHand'];
+const M21_MAP = { Hips: 'Hips', Spine: 'Spine', Chest: 'Spine1', Neck: 'Neck1', Head: 'Head', Shoulder_L: 'LeftShoulder', UpperArm_L: 'LeftArm', LowerArm_L: 'LeftForeArm', Hand_L: 'LeftHand', Shoulder_R: 'RightShoulder', UpperArm_R: 'RightArm', LowerArm_R: 'RightForeArm', Hand_R: 'RightHand', UpperLeg_L: 'LeftUpLeg', LowerLeg_L: 'LeftLeg', Foot_L: 'LeftFoot', Toes_L: 'LeftToeBase', UpperLeg_R: 'RightUpLeg', LowerLeg_R: 'RightLeg', Foot_R: 'RightFoot', Toes_R: 'RightToeBase' };
+
+test('a rig that does not match opens the joint-mapping panel; the mapping chosen imports it and travels in share links', async () => {
+  const page = await openPage();
+  const walk = readFileSync(fixture('foreign/m21_walk.bvh'), 'utf8');
+  const file = { name: 'tailed.bvh', mimeType: 'text/plain', buffer: Buffer.from(tailedRig(walk)) };
+  await page.setInputFiles('#content-file', file);
+  await page.waitForSelector('#map-panel:not([hidden])');
+  assert.match(await page.textContent('#error'), /Could not load tailed\.bvh — RIG_UNMATCHED/);
+  assert.match(await page.textContent('#map-title'), /tailed\.bvh/);
+  const selects = page.locator('#map-rows select');
+  assert.equal(await selects.count(), 21);
+  // Every drop-down offers the file's joints (25: the 21 renamed and the tail).
+  assert.equal(await selects.first().locator('option').count(), 1 + 25);
+  // Cancel: nothing changes.
+  await page.click('#map-cancel');
+  assert.equal(await page.isVisible('#map-panel'), false);
+  assert.match(await page.textContent('#content-info'), /dataset-2_walk_normal_001_f120\.bvh/);
+
+  // Again, and choose the joints by hand: an essential one left out is refused, and the panel stays.
+  await page.setInputFiles('#content-file', { ...file, name: 'tailed2.bvh' });
+  await page.waitForSelector('#map-panel:not([hidden])');
+  for (const [canonical, joint] of Object.entries(M21_MAP)) {
+    await page.selectOption(`#map-rows select[data-joint="${canonical}"]`, `j${M21_JOINTS.indexOf(joint)}`);
+  }
+  await page.selectOption('#map-rows select[data-joint="Hand_L"]', '');
+  await page.click('#map-apply');
+  await page.waitForFunction(() => /RIG_UNMATCHED: .*Hand_L/.test(document.getElementById('error').textContent));
+  await page.waitForSelector('#map-panel:not([hidden])');
+  assert.equal(await page.inputValue('#map-rows select[data-joint="Hips"]'), 'j0', 'the panel keeps the choices');
+  await page.selectOption('#map-rows select[data-joint="Hand_L"]', `j${M21_JOINTS.indexOf('LeftHand')}`);
+  await page.click('#map-apply');
+  await page.waitForFunction(() => document.getElementById('content-info').textContent.includes('tailed2.bvh'));
+  assert.equal(await page.isVisible('#map-panel'), false);
+  assert.equal(await page.isVisible('#error'), false);
+  assert.match(await page.textContent('#content-info'), /manual rig, 25 joints · 162 frames at 60 fps/);
+  await page.fill('#seed', '4');
+  await stylize(page);
+  const { text: mine } = await download(page);
+
+  // The share link carries the mapping: it opens without the panel and gives the same result.
+  await page.click('#share');
+  await page.waitForFunction(() => document.getElementById('share-info').textContent.startsWith('Link copied'));
+  const url = await page.inputValue('#share-url');
+  const other = await openPage(url);
+  await other.waitForFunction(() => document.getElementById('share-info').textContent.includes('Opened a share link'));
+  assert.equal(await other.isVisible('#map-panel'), false);
+  assert.match(await other.textContent('#content-info'), /manual rig/);
+  const { text: theirs } = await download(other);
+  assert.equal(theirs, mine, 'the shared result, byte for byte');
+  await other.context().close();
   await page.context().close();
 });
 

@@ -7,6 +7,7 @@ import { SAMPLES, fetchSample, sampleById } from './samples.js';
 import { MAX_LINK_CHARS, decodeState, encodeState, hasState } from './share.js';
 import { Thumbs } from './thumbs.js';
 import { onFileDrop, progress, showError, status } from './ui.js';
+import { MAPPABLE, askMapping, initMapping } from './mapping.js';
 import { Views, toDisplay } from './views.js';
 import { View3D, canonicalIndices } from './view3d.js';
 
@@ -104,13 +105,39 @@ function describe(m) {
   return `${m.name} · ${m.rig} rig, ${m.display.parents.length} joints · ${frames} frames at ${Math.round(fps)} fps (${(frames / fps).toFixed(1)} s)${missing}`;
 }
 
-/** Imports BVH text into the worker's slot ('content' or 'ref'); returns the motion, or null after showing the error. */
+/**
+ * Imports BVH text into the worker's slot ('content' or 'ref'); returns the motion, or null after
+ * showing the error. A file whose rig does not match opens the joint-mapping panel, prefilled with
+ * the importer's guesses, and is imported again with the mapping chosen (kept in `source.map`,
+ * and so in share links).
+ */
 async function loadMotion(slot, text, source, name) {
+  for (;;) {
+    const motion = await importMotion(slot, text, source, name);
+    const e = state.lastError;
+    if (motion || source.bvh == null || !MAPPABLE.has(e?.code)) return motion;
+    let info;
+    try {
+      info = await worker.call('inspect', { text, map: e.code === 'BAD_MAP' ? undefined : source.map });
+    } catch {
+      return null; // the error shown stands
+    }
+    status(`${name}: choose its joints below, or cancel.`);
+    const map = await askMapping(name, info);
+    if (!map) {
+      status(slot === 'content' && state.content ? `Still showing ${state.content.name}.` : 'Ready.');
+      return null;
+    }
+    source = { ...source, map };
+  }
+}
+
+async function importMotion(slot, text, source, name) {
   setBusy(1);
   status(`Reading ${name}…`);
   progress('busy');
   try {
-    const r = await worker.call('import', { slot, text });
+    const r = await worker.call('import', { slot, text, map: source.map });
     const display = { ...toDisplay(r.display, r.report), canonical: canonicalIndices(r.display.names, r.report.matched) };
     const motion = { source, name, rig: r.rig, report: r.report, file: r.display.file, display };
     state[slot] = motion;
@@ -180,6 +207,7 @@ el('ref-sample').addEventListener('change', (e) => e.target.value && loadSample(
 
 // Drag and drop anywhere on the page: the content motion.
 onFileDrop((file) => loadFile('content', file));
+initMapping();
 
 // ---------- stylizing ----------
 
@@ -297,7 +325,7 @@ el('download').addEventListener('click', async () => {
 el('share').addEventListener('click', async () => {
   const made = state.made;
   if (!made) return;
-  const motionRef = (m) => m && (m.source.sample ? { sample: m.source.sample } : { bvh: m.source.bvh, name: m.source.name });
+  const motionRef = (m) => m && (m.source.sample ? { sample: m.source.sample } : { bvh: m.source.bvh, name: m.source.name, ...(m.source.map ? { map: m.source.map } : {}) });
   const payload = {
     ...made.controls,
     rig: el('rig').value,

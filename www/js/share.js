@@ -59,6 +59,15 @@ const oneOf = (value, options, fallback) => (options.includes(value) ? value : f
 const text = (value, max = 64) => (typeof value === 'string' && value.length <= max ? value : null);
 const number = (value, lo, hi, fallback) => (typeof value === 'number' && Number.isFinite(value) && value >= lo && value <= hi ? value : fallback);
 
+/** A manual joint mapping from a link: {canonical joint: file joint | null} (names checked by the importer). */
+function jointMap(value) {
+  const entries = typeof value === 'object' && !Array.isArray(value) ? Object.entries(value) : null;
+  if (!entries || entries.length > 32 || !entries.every(([k, v]) => text(k) && (v === null || text(v, 120)))) {
+    throw new Error('a motion in the link has a joint mapping that is not one');
+  }
+  return Object.fromEntries(entries);
+}
+
 function motionRef(value, sampleIds) {
   if (value == null || typeof value !== 'object') return null;
   if (typeof value.sample === 'string') {
@@ -67,7 +76,9 @@ function motionRef(value, sampleIds) {
   }
   if (typeof value.bvh === 'string') {
     if (value.bvh.length > MAX_BVH_CHARS) throw new Error('a motion in the link is too large');
-    return { bvh: value.bvh, name: text(value.name, 120) ?? 'shared.bvh' };
+    const ref = { bvh: value.bvh, name: text(value.name, 120) ?? 'shared.bvh' };
+    if (value.map != null) ref.map = jointMap(value.map);
+    return ref;
   }
   throw new Error('a motion in the link is neither a sample nor BVH text');
 }

@@ -65,9 +65,14 @@ const ops = {
     };
   },
 
-  async import({ slot, text }) {
+  async inspect({ text, map }) {
     if (!stylizer) throw coded('INTERNAL', 'the model is not loaded yet');
-    const motion = stylizer.importBvh(text);
+    return stylizer.inspectBvh(text, { map });
+  },
+
+  async import({ slot, text, map }) {
+    if (!stylizer) throw coded('INTERNAL', 'the model is not loaded yet');
+    const motion = stylizer.importBvh(text, { map });
     const old = slots.get(slot);
     slots.set(slot, motion);
     old?.free();
