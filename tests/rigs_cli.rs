@@ -105,6 +105,33 @@ fn a_manual_map_round_trips_through_inspect() {
     let manual = ManualMap::from_json(&std::fs::read_to_string(&map_file).unwrap()).unwrap();
     let lib = import_with(&bvh, Some(&manual)).unwrap();
     assert!(max_position_error(&by_name.motion, &lib.motion) < 1e-9);
+
+    // The same rig as a target (retarget --onto --onto-map) and as a style reference (stylize
+    // --style-motion --style-map): refused without the map, used with it.
+    let m21_file = tmp("m21.bvh");
+    std::fs::write(&m21_file, m21.to_bvh_string()).unwrap();
+    let m21_path = m21_file.to_str().unwrap();
+    let onto = tmp("onto.bvh");
+    let o = onto.to_str().unwrap();
+    let refused = bin().args(["retarget", m21_path, "--onto", f, "-o", o]).output().unwrap();
+    assert!(!refused.status.success(), "an unmatched --onto rig is refused");
+    let st = bin().args(["retarget", m21_path, "--onto", f, "--onto-map", m, "-o", o]).status().unwrap();
+    assert!(st.success());
+    let on_tailed = Bvh::parse(&std::fs::read_to_string(&onto).unwrap()).unwrap();
+    assert_eq!(on_tailed.joints.len(), bvh.joints.len(), "on the tailed rig");
+    let back = import_with(&on_tailed, Some(&manual)).unwrap();
+    let error = max_position_error(&by_name.motion, &back.motion);
+    assert!(error < 1e-3, "m21's motion through the tailed rig: {error} cm");
+    let styled = tmp("styled.bvh");
+    let args = |extra: &[&str]| {
+        let mut a = vec!["stylize", m21_path, "--style-motion", f, "--label", "old", "-o", styled.to_str().unwrap()];
+        a.extend_from_slice(extra);
+        a.into_iter().map(String::from).collect::<Vec<_>>()
+    };
+    let refused = bin().args(args(&[])).output().unwrap();
+    assert!(!refused.status.success(), "an unmatched reference is refused");
+    let ok = bin().args(args(&["--style-map", m])).output().unwrap();
+    assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
 }
 
 #[test]

@@ -57,6 +57,9 @@ enum Command {
         /// `inspect --json`.
         #[arg(long, value_name = "FILE.json")]
         map: Option<PathBuf>,
+        /// Joint mapping of the --onto rig, as --map is FILE's.
+        #[arg(long, value_name = "FILE.json", requires = "onto")]
+        onto_map: Option<PathBuf>,
     },
     /// Choose the held-out takes of the Bandai-Namco data (writes the committed split file).
     Split {
@@ -100,8 +103,8 @@ enum Command {
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Inspect { file, json, map } => inspect::run(&file, json, map.as_deref()),
-        Command::Retarget { file, output, onto, map } => {
-            retarget::run(&file, &output, onto.as_deref(), map.as_deref())
+        Command::Retarget { file, output, onto, map, onto_map } => {
+            retarget::run(&file, &output, onto.as_deref(), map.as_deref(), onto_map.as_deref())
         }
         Command::Split { data, seed, output } => split::run(&data, seed, &output),
         #[cfg(feature = "model")]

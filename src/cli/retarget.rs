@@ -1,4 +1,4 @@
-//! `motion-stylizer retarget FILE.bvh -o OUT.bvh|OUT.glb [--onto RIG.bvh] [--map FILE.json]`.
+//! `motion-stylizer retarget FILE.bvh -o OUT.bvh|OUT.glb [--onto RIG.bvh [--onto-map RIG.json]] [--map FILE.json]`.
 
 use super::output::Rig;
 use anyhow::Context;
@@ -6,7 +6,13 @@ use motion_stylizer::bvh::Bvh;
 use motion_stylizer::skeleton::{self, UserRig};
 use std::path::Path;
 
-pub fn run(file: &Path, output: &Path, onto: Option<&Path>, map: Option<&Path>) -> anyhow::Result<()> {
+pub fn run(
+    file: &Path,
+    output: &Path,
+    onto: Option<&Path>,
+    map: Option<&Path>,
+    onto_map: Option<&Path>,
+) -> anyhow::Result<()> {
     let text = super::read_text(file)?;
     let map = super::read_map(map)?;
     let imported =
@@ -16,8 +22,9 @@ pub fn run(file: &Path, output: &Path, onto: Option<&Path>, map: Option<&Path>) 
         Some(rig_path) => {
             let rig_text = super::read_text(rig_path)?;
             let rig_bvh = Bvh::parse(&rig_text).with_context(|| format!("cannot read {}", rig_path.display()))?;
-            let rig =
-                UserRig::from_bvh(&rig_bvh).with_context(|| format!("cannot use {} as a rig", rig_path.display()))?;
+            let rig_map = super::read_map(onto_map)?;
+            let rig = UserRig::from_bvh_with(&rig_bvh, rig_map.as_ref())
+                .with_context(|| format!("cannot use {} as a rig", rig_path.display()))?;
             Some(rig)
         }
     };

@@ -54,6 +54,10 @@ pub struct StylizeArgs {
     /// `inspect --json`.
     #[arg(long, value_name = "FILE.json")]
     map: Option<PathBuf>,
+    /// Joint mapping of the reference motions (--style-motion, --part ...=motion:REF.bvh), as
+    /// --map is the content's.
+    #[arg(long, value_name = "FILE.json")]
+    style_map: Option<PathBuf>,
     /// Trained weights folder (manifest.json, norm.json, supervised.bin, unsupervised.bin).
     /// Default: assets/weights in the crate.
     #[arg(long, value_name = "DIR")]
@@ -205,13 +209,14 @@ fn resolve_style(
     style: &StyleArg,
     weights: &Weights,
     setting: Setting,
+    style_map: Option<&skeleton::ManualMap>,
 ) -> anyhow::Result<Option<(Option<Imported>, Option<motion_stylizer::dataset::Style>)>> {
     Ok(Some(match style {
         StyleArg::Content => return Ok(None),
         StyleArg::Prior => (None, None),
         StyleArg::Label(name) => (None, Some(weights.style(name)?)),
         StyleArg::Motion { path, label } => {
-            let reference = import(path, None)?;
+            let reference = import(path, style_map)?;
             let label = match (label, setting) {
                 (Some(name), _) => Some(weights.style(name)?),
                 (None, Setting::Supervised) => {
@@ -250,6 +255,7 @@ pub fn run(args: &StylizeArgs) -> anyhow::Result<()> {
     let dir = args.weights.clone().unwrap_or_else(default_weights_dir);
     let weights = load_weights(&dir)?;
     let map = super::read_map(args.map.as_deref())?;
+    let style_map = super::read_map(args.style_map.as_deref())?;
     let request = |source| Request {
         source,
         setting,
@@ -258,11 +264,11 @@ pub fn run(args: &StylizeArgs) -> anyhow::Result<()> {
         temperature: args.temperature,
         strength: args.strength,
     };
-    let main_resolved = main.as_ref().map(|m| resolve_style(m, &weights, setting)).transpose()?.flatten();
+    let main_resolved = main.as_ref().map(|m| resolve_style(m, &weights, setting, style_map.as_ref())).transpose()?.flatten();
     let part_resolved: Vec<_> = BodyPart::ALL
         .iter()
         .map(|&part| match parts.iter().rev().find(|(p, _)| *p == part) {
-            Some((_, style)) => resolve_style(style, &weights, setting),
+            Some((_, style)) => resolve_style(style, &weights, setting, style_map.as_ref()),
             None => Ok(None),
         })
         .collect::<anyhow::Result<_>>()?;
