@@ -70,19 +70,35 @@ impl CsvLog {
         if path.exists() {
             let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
             let mut lines = text.lines();
-            if lines.next() != Some(header.as_str()) {
+            let old = lines.next().unwrap_or_default();
+            // A log written before columns were added (new loss terms, which the run did not use
+            // then): its rows are carried over with 0 in the new columns. Any other difference
+            // is refused.
+            let old_columns: Vec<&str> = old.split(',').collect();
+            let from_old: Vec<Option<usize>> =
+                columns.iter().map(|c| old_columns.iter().position(|o| o == c)).collect();
+            let same = old == header;
+            if !same && (from_old.iter().flatten().count() != old_columns.len() || from_old[0] != Some(0)) {
                 bail!("{} has another header than expected ({header})", path.display());
             }
             let mut kept = header.clone();
             kept.push('\n');
             for line in lines {
                 let step: u64 = line.split(',').next().and_then(|s| s.parse().ok()).unwrap_or(u64::MAX);
-                if step <= keep_to_step {
-                    kept.push_str(line);
-                    kept.push('\n');
+                if step > keep_to_step {
+                    continue;
                 }
+                if same {
+                    kept.push_str(line);
+                } else {
+                    let fields: Vec<&str> = line.split(',').collect();
+                    let row: Vec<&str> =
+                        from_old.iter().map(|i| i.and_then(|i| fields.get(i).copied()).unwrap_or("0")).collect();
+                    kept.push_str(&row.join(","));
+                }
+                kept.push('\n');
             }
-            if kept.len() != text.len() {
+            if kept != text {
                 write_atomic(path, kept.as_bytes())?;
             }
         } else {
@@ -171,4 +187,31 @@ pub fn machine_description() -> String {
 /// Seconds since the Unix epoch.
 pub fn unix_now() -> u64 {
     std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_log_from_before_a_column_was_added_is_carried_over_and_another_is_refused() {
+        let dir = std::env::temp_dir().join(format!("ms-csvlog-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("loss.csv");
+        std::fs::write(&path, "step,loss,hsa\n1,0.5,0.1\n2,0.4,0.2\n3,0.3,0.3\n").unwrap();
+        let mut log = CsvLog::open(&path, &["step", "loss", "stats", "hsa"], 2).unwrap();
+        log.row(3, &[0.25, 0.05, 0.15]).unwrap();
+        drop(log);
+        assert_eq!(
+            std::fs::read_to_string(&path).unwrap(),
+            "step,loss,stats,hsa\n1,0.5,0,0.1\n2,0.4,0,0.2\n3,0.25,0.05,0.15\n"
+        );
+        // A column renamed or dropped is not an older layout of this log.
+        for header in ["step,loss,kl\n1,0.5,0.1\n", "step,loss\n1,0.5\n"] {
+            std::fs::write(&path, header).unwrap();
+            let columns: &[&str] = if header.contains("kl") { &["step", "loss", "hsa"] } else { &["step"] };
+            assert!(CsvLog::open(&path, columns, 1).is_err(), "{header}");
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }
