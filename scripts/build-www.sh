@@ -25,7 +25,7 @@ rm -f "$out/pkg/.gitkeep"
 three=www/node_modules/three
 locked=$(node -p 'require("./www/package-lock.json").packages["node_modules/three"].version')
 esbuild=www/node_modules/.bin/esbuild
-if [[ ! -f $three/package.json || $(node -p "require('./$three/package.json').version") != "$locked" || ! -x $esbuild ]]; then
+if [[ ! -f $three/package.json || $(node -p "require('./$three/package.json').version") != "$locked" || ! -x $esbuild || ! -f www/node_modules/fflate/esm/browser.js ]]; then
   (cd www && npm ci --no-audit --no-fund)
 fi
 # Minified (esbuild, www/package.json's devDependency): three.module.js with the three.core.js it
@@ -37,6 +37,9 @@ mkdir -p "$out/vendor/three/addons/controls"
 "$esbuild" "$three/examples/jsm/controls/OrbitControls.js" --bundle --minify --format=esm --external:three --log-level=warning \
   --outfile="$out/vendor/three/addons/controls/OrbitControls.js"
 cp "$three/LICENSE" "$out/vendor/three/"
+# fflate reads a weights .zip dropped on the page (loaded only then, not counted before the first result).
+mkdir -p "$out/vendor/fflate"
+cp www/node_modules/fflate/esm/browser.js www/node_modules/fflate/LICENSE "$out/vendor/fflate/"
 
 # The built-in samples (www/js/samples.js lists them, with their origins and licences).
 for f in bandai/dataset-2_walk_normal_001_f120.bvh bandai/dataset-2_walk_elderly_001_f120.bvh \

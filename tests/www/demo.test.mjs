@@ -4,10 +4,13 @@
 
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
-import { readFileSync } from 'node:fs';
+import { mkdirSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
 import { after, before, test } from 'node:test';
 import { fileURLToPath, pathToFileURL } from 'node:url';
 import { chromium } from 'playwright-core';
+import { zipSync } from 'fflate';
 import { startServer } from '../../scripts/serve-www.mjs';
 
 const root = fileURLToPath(new URL('../../', import.meta.url));
@@ -262,6 +265,64 @@ test('a rig that does not match opens the joint-mapping panel; the mapping chose
   const { text: theirs } = await download(other);
   assert.equal(theirs, mine, 'the shared result, byte for byte');
   await other.context().close();
+  await page.context().close();
+});
+
+/** The package's weights with 'chimpira' renamed 'swagger' and no unsupervised model: {name: bytes}. */
+function customWeights() {
+  const dir = `${site}/pkg/weights`;
+  const manifest = JSON.parse(readFileSync(`${dir}/manifest.json`, 'utf8'));
+  manifest.styles = manifest.styles.map((s) => (s === 'chimpira' ? 'swagger' : s));
+  manifest.models = manifest.models.filter((m) => m.setting === 'supervised');
+  return {
+    'manifest.json': Buffer.from(JSON.stringify(manifest)),
+    'norm.json': readFileSync(`${dir}/norm.json`),
+    'shared.bin': readFileSync(`${dir}/shared.bin`),
+    'supervised.bin': readFileSync(`${dir}/supervised.bin`),
+  };
+}
+
+test('your own weights: a .zip or a folder replaces the labels; bad weights change nothing; back to the shipped ones; links say which weights', async () => {
+  const page = await openPage();
+  const labels = () => page.$$eval('#label option', (o) => o.map((x) => x.value));
+  const files = customWeights();
+  // A zip without shared.bin: refused, the shipped weights stay.
+  const broken = zipSync(Object.fromEntries(Object.entries(files).filter(([n]) => n !== 'shared.bin').map(([n, b]) => [`w/${n}`, b])));
+  await page.setInputFiles('#weights-zip', { name: 'broken.zip', mimeType: 'application/zip', buffer: Buffer.from(broken) });
+  await page.waitForFunction(() => /BAD_WEIGHTS: .*shared\.bin/.test(document.getElementById('error').textContent));
+  assert.ok((await labels()).includes('chimpira'));
+
+  const zip = zipSync(Object.fromEntries(Object.entries(files).map(([n, b]) => [`my-weights/${n}`, b])));
+  await page.setInputFiles('#weights-zip', { name: 'my-weights.zip', mimeType: 'application/zip', buffer: Buffer.from(zip) });
+  await page.waitForFunction(() => document.getElementById('weights-info').textContent.includes('my-weights.zip'));
+  assert.match(await page.textContent('#weights-info'), /16 labels · supervised model\./);
+  const custom = await labels();
+  assert.ok(custom.includes('swagger') && !custom.includes('chimpira'), custom.join());
+  assert.equal(await page.isVisible('#weights-shipped'), true);
+  await page.selectOption('#label', 'swagger');
+  await stylize(page);
+  assert.match(await page.textContent('#status'), /Stylized as “swagger”/);
+
+  // A link made with these weights, opened on the page's own: it says the weights differ.
+  await page.selectOption('#label', 'old');
+  await stylize(page);
+  await page.click('#share');
+  await page.waitForFunction(() => document.getElementById('share-info').textContent.startsWith('Link copied'));
+  const other = await openPage(await page.inputValue('#share-url'));
+  await other.waitForFunction(() => /other model weights/.test(document.getElementById('share-info').textContent));
+  await other.context().close();
+
+  // Back to the shipped weights, then the same weights as a folder.
+  await page.click('#weights-shipped');
+  await page.waitForFunction(() => document.getElementById('weights-shipped').hidden);
+  assert.ok((await labels()).includes('chimpira'));
+  const folder = mkdtempSync(join(tmpdir(), 'ms-weights-'));
+  mkdirSync(join(folder, 'run-weights'));
+  for (const [n, b] of Object.entries(files)) writeFileSync(join(folder, 'run-weights', n), b);
+  await page.setInputFiles('#weights-folder', join(folder, 'run-weights'));
+  await page.waitForFunction(() => document.getElementById('weights-info').textContent.includes('run-weights'));
+  assert.ok((await labels()).includes('swagger'));
+  rmSync(folder, { recursive: true, force: true });
   await page.context().close();
 });
 

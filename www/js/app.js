@@ -8,6 +8,7 @@ import { MAX_LINK_CHARS, decodeState, encodeState, hasState } from './share.js';
 import { Thumbs } from './thumbs.js';
 import { onFileDrop, progress, showError, status } from './ui.js';
 import { MAPPABLE, askMapping, initMapping } from './mapping.js';
+import { fromFolder, fromZip } from './weights.js';
 import { Views, toDisplay } from './views.js';
 import { View3D, canonicalIndices } from './view3d.js';
 
@@ -37,6 +38,7 @@ const state = {
   busy: 0,
   rerun: false,
   timings: {},
+  custom: null, // a user's weights: {name, settings}
 };
 window.__demo = state; // for the end-to-end tests and the curious (read-only use)
 state.view3d = view3d;
@@ -402,11 +404,12 @@ window.addEventListener('hashchange', () => hasState(location.hash) && state.sty
 
 // ---------- engine ----------
 
-async function loadEngine(backend) {
+/** Starts the engine on `backend`; `weights`: {weights, settings} of a user's folder, or {shipped: true}. */
+async function loadEngine(backend, weights = { settings: state.custom?.settings }) {
   setBusy(1);
   const t0 = performance.now();
   try {
-    const info = await worker.call('load', { backend }, (p) => {
+    const info = await worker.call('load', { backend, ...weights }, (p) => {
       if (p.stage === 'weights' && p.total) {
         status(`Downloading the model: ${(p.loaded / 1048576).toFixed(1)} of ${(p.total / 1048576).toFixed(1)} MB…`);
         progress(p.loaded / p.total);
@@ -434,6 +437,57 @@ async function loadEngine(backend) {
   }
 }
 
+/** The label drop-downs from the loaded weights' labels: `defaults[id]`, else the choice before if the weights still have it, else the first. */
+function fillLabels(defaults = {}) {
+  const labels = state.styles.map((s) => [s, s]);
+  for (const id of ['label', 'ref-label', 'mix-a-label', 'mix-b-label']) {
+    const before = el(id).value;
+    // The reference's label may also be left to the package to infer ('').
+    const options = id === 'ref-label' ? [['', 'infer from the reference'], ...labels] : labels;
+    const keep = [defaults[id], before].find((v) => v != null && options.some(([o]) => o === v));
+    fillSelect(el(id), options, keep);
+  }
+  syncControls();
+}
+
+/** Loads a user's weights folder (read by `read`, named `what`) in place of the current weights. */
+async function useWeights(read, what) {
+  let custom;
+  try {
+    custom = await read();
+  } catch (e) {
+    showError(`Could not use ${what} as weights`, e);
+    return;
+  }
+  const info = await loadEngine(el('webgpu').checked ? 'webgpu' : 'cpu', { weights: custom.bytes, settings: custom.settings });
+  if (!info) return;
+  state.custom = { name: what, settings: custom.settings };
+  fillLabels();
+  el('weights-info').textContent = `Your weights: ${what} (id ${info.weightsId}) · ${info.styles.length} labels · ${custom.settings.join(' and ')} model${custom.settings.length > 1 ? 's' : ''}.`;
+  el('weights-shipped').hidden = false;
+  status(`Loaded the weights ${what}.`);
+}
+
+el('weights-zip').addEventListener('change', (e) => {
+  const file = e.target.files?.[0];
+  e.target.value = '';
+  if (file) useWeights(() => fromZip(file), file.name);
+});
+el('weights-folder').addEventListener('change', (e) => {
+  const files = [...(e.target.files ?? [])];
+  e.target.value = '';
+  if (files.length) useWeights(() => fromFolder(files), files[0].webkitRelativePath?.split('/')[0] || 'the folder');
+});
+el('weights-shipped').addEventListener('click', async () => {
+  const info = await loadEngine(el('webgpu').checked ? 'webgpu' : 'cpu', { shipped: true });
+  if (!info) return;
+  state.custom = null;
+  fillLabels();
+  el('weights-info').textContent = '';
+  el('weights-shipped').hidden = true;
+  status('Back on the shipped weights.');
+});
+
 el('webgpu').addEventListener('change', async (e) => {
   await loadEngine(e.target.checked ? 'webgpu' : 'cpu');
   status('Ready.');
@@ -446,14 +500,7 @@ async function boot() {
   syncControls();
   showMotions(viewOptions());
   if (!(await loadEngine('cpu'))) return;
-  const labels = state.styles.map((s) => [s, s]);
-  for (const id of ['label', 'ref-label', 'mix-a-label', 'mix-b-label']) fillSelect(el(id), labels);
-  // The reference's label may also be left to the package to infer.
-  fillSelect(el('ref-label'), [['', 'infer from the reference'], ...labels]);
-  el('label').value = DEFAULT.label;
-  el('mix-a-label').value = DEFAULT.label;
-  el('ref-label').value = 'old';
-  syncControls();
+  fillLabels({ label: DEFAULT.label, 'mix-a-label': DEFAULT.label, 'ref-label': 'old' });
   if (hasState(location.hash) && (await openShared(location.hash))) return finishBoot();
   await loadSample('content', DEFAULT.content);
   await loadSample('ref', DEFAULT.ref);

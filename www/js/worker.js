@@ -33,15 +33,15 @@ function styleOf(src, inferred) {
 }
 
 const ops = {
-  async load({ backend }, progress) {
+  async load({ backend, weights, settings, shipped }, progress) {
     const t0 = performance.now();
     let fetchMs = 0;
     // The package fetches the weights (with progress); a reload (another backend) reuses the
-    // bytes the previous Stylizer keeps.
+    // bytes the previous Stylizer keeps; `weights`: a user's weights folder as bytes. The previous
+    // Stylizer stays in use until the new one has loaded (weights that cannot be used change nothing);
+    // `shipped`: the package's own weights again.
     const previous = stylizer;
-    stylizer = null;
-    previous?.free();
-    if (previous) progress({ stage: 'compile' });
+    if (previous || weights) progress({ stage: 'compile' });
     let loading = true;
     reportProgress = progress;
     const onProgress = ({ loaded, total, setting }) => {
@@ -51,8 +51,10 @@ const ops = {
         reportProgress?.({ stage: 'compile' });
       }
     };
-    stylizer = await Stylizer.load({ weights: previous ?? undefined, backend, onProgress });
+    const next = await Stylizer.load({ weights: weights ?? (shipped ? undefined : previous ?? undefined), backend, settings, onProgress });
     loading = false;
+    stylizer = next;
+    if (previous) previous.free();
     return {
       styles: stylizer.styles(),
       settings: stylizer.settings(),
