@@ -150,7 +150,21 @@ export type StyleSource =
   | { prior: true }
   | { mix: { a: StyleSource; b: StyleSource; t: number } };
 
-export type StylizeOptions = StyleSource & {
+/**
+ * A style per body part: `lower` (the root and both legs), `upper` (spine, chest, arms), `head`
+ * (neck, head); `'content'` keeps the content's own motion there. Each part is stylized on its own
+ * (the whole body) and the outputs are combined joint by joint: the root and the foot contacts are
+ * the lower body's source's.
+ */
+export type BodyParts = {
+  lower?: StyleSource | 'content';
+  upper?: StyleSource | 'content';
+  head?: StyleSource | 'content';
+};
+
+export type StylizeOptions = (StyleSource | {}) & {
+  /** A style per body part; the parts not named take the options' own style (or keep the content without one). */
+  parts?: BodyParts;
   /** Use the model trained without labels (motion- and prior-based only). Default false. */
   unsupervised?: boolean;
   /** Number of outputs, 1-64. Default 1. */
@@ -218,6 +232,8 @@ export class StylizedMotion {
   toThreeClip(THREE: ThreeModule, options?: { name?: string }): ThreeClip;
   /** Set when the style came from a reference given without a label to the supervised model: the label inferred for it. */
   readonly inferredLabel?: string;
+  /** With `parts`: the label inferred for each part whose reference was given without one. */
+  readonly inferredLabels?: Partial<Record<'lower' | 'upper' | 'head', string>>;
   /** Releases its memory in the engine now rather than when garbage-collected; it cannot be used after. */
   free(): void;
 }

@@ -321,6 +321,9 @@ function styleSpec(stylizer, o, depth) {
   throw codedError('BAD_REQUEST', 'give a style: label, styleMotion, prior: true or mix: {a, b, t}');
 }
 
+/** The body parts a style can be given to separately (stylize's `parts`), in the engine's order. */
+const BODY_PARTS = ['lower', 'upper', 'head'];
+
 /** Drawing the source file needs no more values than this (or frames faster than 60 fps). */
 const MAX_SOURCE_VALUES = 6_000_000;
 
@@ -711,7 +714,9 @@ export class Stylizer {
    * (+ label for the supervised model) | prior: true | mix: {a, b, t}), unsupervised, samples
    * (1-64), seed (integer or BigInt), rig ('content' | 'canonical'), temperature (scale of prior
    * draws, 0-4; default the library's, 0.3), strength (how far towards the style, 0-2: 0 the
-   * content itself, 1 the default, 2 exaggerated).
+   * content itself, 1 the default, 2 exaggerated), parts ({ lower?, upper?, head? }: a style
+   * source per body part, or 'content' to keep the content's own motion there; the parts not
+   * named take the options' own style, or keep the content without one).
    */
   async stylize(content, options = {}) {
     const { unsupervised = false, samples = 1, seed = 0, rig = 'content', temperature, strength } = options;
@@ -726,14 +731,10 @@ export class Stylizer {
     if (strength !== undefined && typeof strength !== 'number') {
       throw codedError('BAD_REQUEST', 'strength must be a number in [0, 2]');
     }
+    if (options.parts != null) return this.#stylizeParts(motion, options, { unsupervised, samples, seed, canonical: rig === 'canonical', temperature, strength });
     // Supervised motion-based without a label: the reference's label is inferred and reported.
     let inferredLabel;
-    if (options.styleMotion != null && !unsupervised && options.label == null && options.mix == null) {
-      // Imported once (BVH text is not parsed again for the style).
-      const reference = this.asMotion(options.styleMotion, 'styleMotion');
-      inferredLabel = this.inferLabel(reference);
-      options = { ...options, styleMotion: reference, label: inferredLabel };
-    }
+    [options, inferredLabel] = this.#withInferredLabel(options, unsupervised);
     const engine = this.#live();
     const made = generation;
     const spec = styleSpec(this, options, 0);
@@ -744,6 +745,48 @@ export class Stylizer {
       return outputs;
     } finally {
       release(spec, made);
+    }
+  }
+
+  /** `source` with the reference's label inferred where the supervised model needs one: [source, the label inferred or undefined]. */
+  #withInferredLabel(source, unsupervised) {
+    if (source.styleMotion == null || unsupervised || source.label != null || source.mix != null) return [source, undefined];
+    // Imported once (BVH text is not parsed again for the style).
+    const reference = this.asMotion(source.styleMotion, 'styleMotion');
+    const label = this.inferLabel(reference);
+    return [{ ...source, styleMotion: reference, label }, label];
+  }
+
+  /** stylize with `parts`: a style per body part, the options' own style for the parts not named. */
+  #stylizeParts(motion, options, request) {
+    const { parts } = options;
+    if (typeof parts !== 'object' || Array.isArray(parts)) {
+      throw codedError('BAD_REQUEST', "parts must be an object { lower?, upper?, head? } of style sources or 'content'");
+    }
+    const unknown = Object.keys(parts).filter((k) => !BODY_PARTS.includes(k));
+    if (unknown.length) throw codedError('BAD_REQUEST', `unknown body part ${unknown[0]} (they are ${BODY_PARTS.join(', ')})`);
+    const hasMain = ['label', 'styleMotion', 'prior', 'mix'].some((k) => options[k] != null && options[k] !== false);
+    const inferredLabels = {};
+    const sources = BODY_PARTS.map((part) => {
+      const given = parts[part];
+      if (given === 'content' || (given == null && !hasMain)) return 'content';
+      if (given != null && (typeof given !== 'object' || Array.isArray(given))) {
+        throw codedError('BAD_REQUEST', `parts.${part} must be a style source ({ label }, { styleMotion }, { prior: true }, { mix }) or 'content'`);
+      }
+      const [source, inferred] = this.#withInferredLabel(given ?? options, request.unsupervised);
+      if (inferred !== undefined) inferredLabels[part] = inferred;
+      return source;
+    });
+    const engine = this.#live();
+    const made = generation;
+    const specs = [];
+    try {
+      for (const s of sources) specs.push(s === 'content' ? guard(() => wasm.StyleSpec.content()) : styleSpec(this, s, 0));
+      const outputs = guard(() => engine.stylizeParts(motion, specs[0], specs[1], specs[2], request).map((o) => new StylizedMotion(o)));
+      if (Object.keys(inferredLabels).length) for (const o of outputs) o.inferredLabels = inferredLabels;
+      return outputs;
+    } finally {
+      for (const s of specs) release(s, made);
     }
   }
 

@@ -9,9 +9,10 @@ use super::options::StylizeOptions;
 use super::panic;
 use super::style::StyleSpec;
 use super::stylized::StylizedMotion;
+use crate::Motion;
 use crate::gltf::GltfOptions;
 use crate::stylize::weights::parse_manifest;
-use crate::stylize::{self, Request, Setting, WeightFiles, Weights};
+use crate::stylize::{self, BodyPart, PartRequests, Request, Setting, WeightFiles, Weights};
 
 /// The files a weights folder's `manifest.json` names, for the JS wrapper to fetch (the engine is
 /// the one reader of the manifest): JSON `{format, norm, shared: {file, bytes} | null, models:
@@ -124,13 +125,53 @@ impl Engine {
             .with_temperature(options.temperature)
             .with_strength(options.strength);
         let motions = stylize::stylize(&self.weights, &content.motion, &request).map_err(|e| stylize_error(&e))?;
-        Ok(motions
+        Ok(self.outputs(content, &motions, options.canonical))
+    }
+
+    /// Canonical motions as results, on the canonical rig or the content's own.
+    fn outputs(&self, content: &ImportedMotion, motions: &[Motion], canonical: bool) -> Vec<StylizedMotion> {
+        motions
             .iter()
-            .map(|m| match options.canonical {
+            .map(|m| match canonical {
                 true => StylizedMotion::new(m.to_bvh(), GltfOptions::canonical()),
                 false => StylizedMotion::new(content.rig.from_canonical(m), GltfOptions::for_rig(content.rig.report())),
             })
-            .collect())
+            .collect()
+    }
+
+    /// Stylizes `content` with a style per body part ([`stylize::stylize_parts`]): `lower` (the
+    /// root and the legs), `upper` (spine, chest, arms), `head` (neck, head); a part without a
+    /// style ([`StyleSpec::content`]) keeps the content's own motion. `options` as for
+    /// [`Engine::stylize`], shared by every part. Errors: those of `stylize`, and `BAD_REQUEST`
+    /// when no part has a style.
+    #[wasm_bindgen(js_name = stylizeParts)]
+    pub fn stylize_parts(
+        &self,
+        content: &ImportedMotion,
+        lower: &StyleSpec,
+        upper: &StyleSpec,
+        head: &StyleSpec,
+        options: JsValue,
+    ) -> Result<Vec<StylizedMotion>, JsValue> {
+        let options = StylizeOptions::from_js(&options)?;
+        let setting = if options.unsupervised { Setting::Unsupervised } else { Setting::Supervised };
+        let specs = [(BodyPart::Lower, lower), (BodyPart::Upper, upper), (BodyPart::Head, head)];
+        let mut parts = PartRequests::default();
+        for (part, spec) in specs {
+            if spec.is_content() {
+                continue;
+            }
+            let source = spec.source(&self.weights).map_err(|e| stylize_error(&e))?;
+            let request = Request::new(source)
+                .with_setting(setting)
+                .with_samples(options.samples)
+                .with_seed(options.seed)
+                .with_temperature(options.temperature)
+                .with_strength(options.strength);
+            parts.set(part, request);
+        }
+        let motions = stylize::stylize_parts(&self.weights, &content.motion, &parts).map_err(|e| stylize_error(&e))?;
+        Ok(self.outputs(content, &motions, options.canonical))
     }
 
     /// The supervised model's label for a reference motion given without one

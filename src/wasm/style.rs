@@ -12,10 +12,19 @@ use crate::stylize::{MAX_MIX_DEPTH, StyleSource, StylizeError, Weights};
 
 #[derive(Debug)]
 enum Node {
-    Motion { motion: Rc<Motion>, label: Option<String> },
+    Motion {
+        motion: Rc<Motion>,
+        label: Option<String>,
+    },
     Label(String),
     Prior,
-    Mix { a: Rc<Node>, b: Rc<Node>, t: f32 },
+    Mix {
+        a: Rc<Node>,
+        b: Rc<Node>,
+        t: f32,
+    },
+    /// No style: a body part keeps the content's own motion (only a part's choice).
+    Content,
 }
 
 /// Where the style comes from: a label, a reference motion (with its label for the supervised
@@ -30,6 +39,11 @@ pub struct StyleSpec {
 
 #[wasm_bindgen]
 impl StyleSpec {
+    /// Whether this is [`StyleSpec::content`].
+    pub(super) fn is_content(&self) -> bool {
+        matches!(*self.node, Node::Content)
+    }
+
     /// Label-based: the style called `name` (checked when it is used).
     pub fn label(name: String) -> StyleSpec {
         StyleSpec { node: Rc::new(Node::Label(name)), depth: 0 }
@@ -44,6 +58,11 @@ impl StyleSpec {
     /// Prior-based: a random style (supervised model: with a random label).
     pub fn prior() -> StyleSpec {
         StyleSpec { node: Rc::new(Node::Prior), depth: 0 }
+    }
+
+    /// For a body part of `Engine.stylizeParts`: keep the content's own motion there.
+    pub fn content() -> StyleSpec {
+        StyleSpec { node: Rc::new(Node::Content), depth: 0 }
     }
 
     /// `(1 − t)·a + t·b`, `t` in [0, 1] (checked when it is used). Error `BAD_REQUEST` when mixes
@@ -73,5 +92,10 @@ fn resolve<'a>(node: &'a Node, weights: &Weights) -> Result<StyleSource<'a>, Sty
         Node::Label(name) => StyleSource::Label(weights.style(name)?),
         Node::Prior => StyleSource::Prior,
         Node::Mix { a, b, t } => StyleSource::mix(resolve(a, weights)?, resolve(b, weights)?, *t),
+        Node::Content => {
+            return Err(StylizeError::Parts(
+                "'content' keeps a body part's own motion: it is no style to stylize or mix with".into(),
+            ));
+        }
     })
 }

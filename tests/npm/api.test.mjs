@@ -105,6 +105,37 @@ test('stylize: outputs with BVH, positions and skeleton, on either rig', async (
   assert.equal(canonical.skeleton.names[0], 'Hips');
 });
 
+test('stylize with parts: a style per body part, the content kept where asked, inferred labels per part', async () => {
+  const content = s.importBvh(walk);
+  const maxDiff = (a, b) => a.reduce((m, v, i) => Math.max(m, Math.abs(v - b[i])), 0);
+  const [whole] = await s.stylize(content, { label: 'old', seed: 2, rig: 'canonical' });
+  // Every part from the same source is the whole-body stylization.
+  const [same] = await s.stylize(content, { label: 'old', seed: 2, rig: 'canonical', parts: { lower: { label: 'old' }, upper: { label: 'old' } } });
+  assert.ok(maxDiff(same.positions(), whole.positions()) < 1e-3, 'the parts of one source make the whole');
+  // The head kept: the same motion below the neck's joints' parents, another head.
+  const [headKept] = await s.stylize(content, { label: 'old', seed: 2, rig: 'canonical', parts: { head: 'content' } });
+  const names = headKept.skeleton.names;
+  const at = (p, name, f) => p.slice((f * names.length + names.indexOf(name)) * 3, (f * names.length + names.indexOf(name)) * 3 + 3);
+  const [kept, full] = [headKept.positions(), whole.positions()];
+  let hand = 0;
+  let head = 0;
+  for (let f = 0; f < headKept.frames; f++) {
+    hand = Math.max(hand, maxDiff(at(kept, 'Hand_L', f), at(full, 'Hand_L', f)));
+    head = Math.max(head, maxDiff(at(kept, 'Head', f), at(full, 'Head', f)));
+  }
+  assert.ok(hand < 1e-3, `the arms are the style's: ${hand}`);
+  assert.ok(head > 0.5, `the head is the content's, not the style's: ${head}`);
+  // Upper body from a reference without a label: inferred for that part.
+  const [mixed] = await s.stylize(content, { label: 'old', seed: 2, parts: { upper: { styleMotion: ref } } });
+  assert.ok(typeof mixed.inferredLabels?.upper === 'string' && s.styles().includes(mixed.inferredLabels.upper));
+  assert.equal(mixed.inferredLabel, undefined);
+
+  await rejects(() => s.stylize(content, { parts: { upper: 'content' } }), 'BAD_REQUEST');
+  await rejects(() => s.stylize(content, { label: 'old', parts: { arms: { label: 'old' } } }), 'BAD_REQUEST');
+  await rejects(() => s.stylize(content, { label: 'old', parts: { upper: 5 } }), 'BAD_REQUEST');
+  await rejects(() => s.stylize(content, { label: 'old', parts: { upper: { label: 'no-such-style' } } }), 'UNKNOWN_LABEL');
+});
+
 test('stylize: every style source; seeds are deterministic', async () => {
   const content = s.importBvh(walk);
   const reference = s.importBvh(ref);
