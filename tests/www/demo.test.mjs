@@ -326,6 +326,33 @@ test('your own weights: a .zip or a folder replaces the labels; bad weights chan
   await page.context().close();
 });
 
+test('body parts: a style per part, the content kept for one; the share link reproduces it', async () => {
+  const page = await openPage();
+  await page.selectOption('#label', 'old');
+  await page.fill('#seed', '3');
+  await stylize(page);
+  const { text: whole } = await download(page);
+  await page.click('summary:has-text("body parts")');
+  await page.selectOption('#part-upper', 'label:angry');
+  await page.selectOption('#part-head', 'content');
+  await stylize(page);
+  assert.match(await page.textContent('#status'), /Stylized as “old\+upper-angry\+head-content”/);
+  const { name, text: mine } = await download(page);
+  assert.match(name, /old\+upper-angry\+head-content/);
+  assert.notEqual(mine, whole, 'the parts change the result');
+  await page.click('#share');
+  await page.waitForFunction(() => document.getElementById('share-info').textContent.startsWith('Link copied'));
+  const other = await openPage(await page.inputValue('#share-url'));
+  await other.waitForFunction(() => document.getElementById('share-info').textContent.includes('Opened a share link'));
+  assert.equal(await other.inputValue('#part-upper'), 'label:angry');
+  assert.equal(await other.inputValue('#part-head'), 'content');
+  assert.equal(await other.inputValue('#part-lower'), '');
+  const { text: theirs } = await download(other);
+  assert.equal(theirs, mine, 'the shared result, byte for byte');
+  await other.context().close();
+  await page.context().close();
+});
+
 test('modes: reference motion, prior with N samples as thumbnails, mix slider; WebGPU toggle shows the fallback', async () => {
   const page = await openPage();
   // Reference motion (supervised, the reference's label) from a sample.

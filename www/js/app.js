@@ -1,6 +1,6 @@
 // The page: wires the controls, the worker (worker-client.js), the views, playback, share links and files.
 
-import { fillSelect, readControls, requestOf, styleName, syncControls, usesReference, writeControls } from './controls.js';
+import { PARTS, fillSelect, partOptions, readControls, requestOf, styleName, syncControls, usesReference, writeControls } from './controls.js';
 import { WorkerClient } from './worker-client.js';
 import { Player } from './player.js';
 import { SAMPLES, fetchSample, sampleById } from './samples.js';
@@ -363,7 +363,8 @@ async function openShared(hash) {
   let shared;
   try {
     shared = await decodeState(hash, SAMPLES.map((s) => s.id));
-    for (const l of [shared.label, shared.refLabel || 'normal', shared.mixA.label, shared.mixB.label]) {
+    const partLabels = Object.values(shared.parts).filter((v) => v.startsWith('label:')).map((v) => v.slice('label:'.length));
+    for (const l of [shared.label, shared.refLabel || 'normal', shared.mixA.label, shared.mixB.label, ...partLabels]) {
       if (!state.styles.includes(l)) throw new Error(`unknown style label "${l}"`);
     }
   } catch (e) {
@@ -440,10 +441,10 @@ async function loadEngine(backend, weights = { settings: state.custom?.settings 
 /** The label drop-downs from the loaded weights' labels: `defaults[id]`, else the choice before if the weights still have it, else the first. */
 function fillLabels(defaults = {}) {
   const labels = state.styles.map((s) => [s, s]);
-  for (const id of ['label', 'ref-label', 'mix-a-label', 'mix-b-label']) {
+  for (const id of ['label', 'ref-label', 'mix-a-label', 'mix-b-label', ...PARTS.map((p) => `part-${p}`)]) {
     const before = el(id).value;
     // The reference's label may also be left to the package to infer ('').
-    const options = id === 'ref-label' ? [['', 'infer from the reference'], ...labels] : labels;
+    const options = id === 'ref-label' ? [['', 'infer from the reference'], ...labels] : id.startsWith('part-') ? partOptions(state.styles) : labels;
     const keep = [defaults[id], before].find((v) => v != null && options.some(([o]) => o === v));
     fillSelect(el(id), options, keep);
   }

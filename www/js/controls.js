@@ -35,7 +35,19 @@ export function readControls() {
     temperature: Number(el('temperature').value),
     strength: Number(el('strength').value),
     rig: el('rig').value,
+    parts: Object.fromEntries(PARTS.map((p) => [p, el(`part-${p}`).value])),
   };
+}
+
+/** The body parts with a style of their own (`parts` of the package's stylize). */
+export const PARTS = ['lower', 'upper', 'head'];
+
+/**
+ * A part's choices: '' (the style above), 'content' (unchanged), 'motion' (the reference motion),
+ * 'label:NAME' (a label; supervised only).
+ */
+export function partOptions(styles) {
+  return [['', 'the style above'], ['content', 'unchanged (the content)'], ['motion', 'the reference motion'], ...styles.map((s) => [`label:${s}`, `label: ${s}`])];
 }
 
 export function writeControls(c) {
@@ -52,6 +64,7 @@ export function writeControls(c) {
   setSelect('mix-b-kind', c.mixB.kind);
   setSelect('mix-b-label', c.mixB.label);
   setSelect('rig', c.rig);
+  for (const p of PARTS) setSelect(`part-${p}`, c.parts?.[p] ?? '');
   el('mix-t').value = String(c.t);
   el('seed').value = String(c.seed);
   el('samples').value = String(c.samples);
@@ -77,13 +90,19 @@ export function syncControls() {
     if (unsupervised && kind.value === 'label') kind.value = 'prior';
     el(`mix-${side}-label`).hidden = kind.value !== 'label';
   }
+  for (const p of PARTS) {
+    const select = el(`part-${p}`);
+    for (const o of select.options) o.disabled = unsupervised && o.value.startsWith('label:');
+    if (unsupervised && select.value.startsWith('label:')) select.value = '';
+  }
   el('mix-t-label').textContent = Number(el('mix-t').value).toFixed(2);
   el('temperature-label').textContent = Number(el('temperature').value).toFixed(2);
   el('strength-label').textContent = Number(el('strength').value).toFixed(2);
 }
 
 /** Whether the controls use the reference motion. */
-export const usesReference = (c) => c.mode === 'motion' || (c.mode === 'mix' && (c.mixA.kind === 'motion' || c.mixB.kind === 'motion'));
+export const usesReference = (c) =>
+  c.mode === 'motion' || (c.mode === 'mix' && (c.mixA.kind === 'motion' || c.mixB.kind === 'motion')) || PARTS.some((p) => c.parts?.[p] === 'motion');
 
 /** The worker's stylize request for the controls (on the content's rig). */
 export function requestOf(c) {
@@ -97,13 +116,25 @@ export function requestOf(c) {
   let source;
   if (c.mode === 'mix') source = { kind: 'mix', a: part(c.mixA), b: part(c.mixB), t: c.t };
   else source = part({ kind: c.mode, label: c.label });
-  return { source, unsupervised, samples: c.samples, seed: c.seed, temperature: c.temperature, strength: c.strength, rig: 'content' };
+  // Parts with a choice of their own: 'content', or a source as above.
+  const chosen = PARTS.filter((p) => c.parts?.[p]);
+  const parts = chosen.length
+    ? Object.fromEntries(chosen.map((p) => {
+        const v = c.parts[p];
+        return [p, v === 'content' ? 'content' : v === 'motion' ? part({ kind: 'motion' }) : part({ kind: 'label', label: v.slice('label:'.length) })];
+      }))
+    : undefined;
+  return { source, parts, unsupervised, samples: c.samples, seed: c.seed, temperature: c.temperature, strength: c.strength, rig: 'content' };
 }
 
 /** A short name of the style (file names, captions). */
 export function styleName(c) {
   const unsupervised = c.model === 'unsupervised';
   const part = (p) => (p.kind === 'label' ? p.label : p.kind === 'prior' ? 'prior' : unsupervised || !c.refLabel ? 'ref' : c.refLabel);
-  if (c.mode === 'mix') return `${part(c.mixA)}-${part(c.mixB)}-${c.t.toFixed(2)}`;
-  return part({ kind: c.mode, label: c.label });
+  const main = c.mode === 'mix' ? `${part(c.mixA)}-${part(c.mixB)}-${c.t.toFixed(2)}` : part({ kind: c.mode, label: c.label });
+  const own = PARTS.filter((p) => c.parts?.[p]).map((p) => {
+    const v = c.parts[p];
+    return `${p}-${v === 'motion' ? part({ kind: 'motion' }) : v.replace('label:', '')}`;
+  });
+  return [main, ...own].join('+');
 }

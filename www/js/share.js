@@ -84,6 +84,8 @@ function motionRef(value, sampleIds) {
 }
 
 const KINDS = ['label', 'motion', 'prior'];
+/** A body part's choice: '' (the style), 'content', 'motion' or 'label:NAME' (the label checked by the page). */
+const partChoice = (v) => (v === 'content' || v === 'motion' ? v : typeof v === 'string' && /^label:/.test(v) && text(v, 70) ? v : '');
 const part = (p) => ({ kind: oneOf(p?.kind, KINDS, 'label'), label: text(p?.label) ?? 'normal' });
 
 /** The state of a fragment, validated; throws an Error with a readable message when it is not usable. */
@@ -119,6 +121,8 @@ export async function decodeState(hash, sampleIds) {
     strength: number(raw.strength, 0, 2, 1),
     pick: Math.floor(number(raw.pick, 0, 7, 0)),
     rig: oneOf(raw.rig, ['content', 'canonical'], 'content'),
+    // Links from before body parts: every part takes the style.
+    parts: Object.fromEntries(['lower', 'upper', 'head'].map((p) => [p, partChoice(raw.parts?.[p])])),
     weights: typeof raw.weights === 'string' && /^[0-9a-f]{8}$/.test(raw.weights) ? raw.weights : null,
   };
 }

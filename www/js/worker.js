@@ -97,7 +97,7 @@ const ops = {
     };
   },
 
-  async stylize({ source, unsupervised, samples, seed, temperature, strength, rig, only, glb }, progress) {
+  async stylize({ source, parts, unsupervised, samples, seed, temperature, strength, rig, only, glb }, progress) {
     // The unsupervised model is fetched when it is first used: its download is this request's progress.
     reportProgress = progress;
     const content = slots.get('content');
@@ -106,7 +106,9 @@ const ops = {
     const needsLabel = (src) => (src?.kind === 'mix' ? needsLabel(src.a) || needsLabel(src.b) : src?.kind === 'motion' && !src.label);
     const ref = slots.get('ref');
     const inferredLabel = !unsupervised && ref && needsLabel(source) ? stylizer.inferLabel(ref) : undefined;
-    const outputs = await stylizer.stylize(content, { ...styleOf(source, inferredLabel), unsupervised, samples, seed, temperature, strength, rig });
+    // Parts of their own: 'content', or a source (a reference without a label: the package infers it per part).
+    const own = parts && Object.fromEntries(Object.entries(parts).map(([p, v]) => [p, v === 'content' ? 'content' : styleOf(v)]));
+    const outputs = await stylizer.stylize(content, { ...styleOf(source, inferredLabel), parts: own, unsupervised, samples, seed, temperature, strength, rig });
     const ms = performance.now() - t0;
     const picked = only == null ? outputs : [outputs[only]];
     const result = picked.map((o) => ({
