@@ -51,6 +51,10 @@ pub struct EvalArgs {
     /// crate, if it is there].
     #[arg(long, value_name = "FILE")]
     content_classifier: Option<PathBuf>,
+    /// Also measure per-part styles: label-based with the target on the upper body only and on
+    /// the lower body only, the style shift on each part's descriptors (a `parts` table).
+    #[arg(long)]
+    parts: bool,
     /// Style strength of every stylization (0-2; see `stylize --strength`).
     #[arg(long, default_value_t = motion_stylizer::stylize::DEFAULT_STRENGTH, value_name = "S")]
     strength: f32,
@@ -147,12 +151,16 @@ pub fn run(args: &EvalArgs) -> anyhow::Result<()> {
         content_judge: content_judge.as_ref(),
         strength: args.strength,
         temperature: args.temperature,
+        parts: args.parts,
     };
     let evaluation = protocol::evaluate(&inputs, &mut |done, _| bar.set_position(done as u64))?;
     bar.finish_and_clear();
 
     println!("{}", report::to_table(&evaluation.rows));
     println!("{}", report::labels_table(&evaluation, Some(&directions), weights.styles()));
+    if !evaluation.parts.is_empty() {
+        println!("{}", report::parts_table(&evaluation.parts));
+    }
     let provenance = Provenance {
         command: std::env::args().collect::<Vec<_>>().join(" "),
         weights: shown(&weights_dir),

@@ -33,10 +33,10 @@ use serde::Serialize;
 
 use super::classify::{Judge, Judgement};
 use super::metrics::{feature_distance, fid, foot_skate_parts, geodesic, mean_ci, position_distance};
-use super::shift::{Directions, descriptors};
+use super::shift::{Directions, LOWER_BODY, UPPER_BODY, descriptors};
 use crate::Motion;
 use crate::dataset::Style;
-use crate::stylize::{self, Request, Setting, StyleSource, StylizeError, Weights};
+use crate::stylize::{self, PartRequests, Request, Setting, StyleSource, StylizeError, Weights};
 use std::collections::BTreeMap;
 
 /// One motion of the evaluation with its style label, if known.
@@ -83,7 +83,26 @@ pub struct Inputs<'a> {
     /// The stylizations' [`Request::strength`] and [`Request::temperature`].
     pub strength: f32,
     pub temperature: f32,
+    /// Also measure per-part styles ([`PartShift`]): label-based with the target on the upper
+    /// body only and on the lower body only, beside the whole body.
+    pub parts: bool,
 }
+
+/// Style shift per body part (label-based, supervised): how far the outputs of one variant moved
+/// towards the target on the lower body's descriptors ([`super::shift::LOWER_BODY`]) and on the
+/// upper body's ([`super::shift::UPPER_BODY`]), pooled over repeats and contents.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct PartShift {
+    /// `"whole"` (the style on every part), `"upper_only"`, `"lower_only"` (the style on that part,
+    /// the content's own motion on the others).
+    pub variant: &'static str,
+    pub outputs: usize,
+    pub lower: Option<f64>,
+    pub upper: Option<f64>,
+}
+
+/// The variants of [`PartShift`], in order.
+pub const PART_VARIANTS: [&str; 3] = ["whole", "upper_only", "lower_only"];
 
 /// One row of the result: per metric, the mean over repeats and the 95 % half-width (`None`:
 /// does not apply to the row, or fewer than two repeats for the half-width).
@@ -110,6 +129,8 @@ pub struct LabelRow {
 pub struct Evaluation {
     pub rows: Vec<Row>,
     pub labels: Vec<LabelRow>,
+    /// Per-part shifts ([`Inputs::parts`]; empty without).
+    pub parts: Vec<PartShift>,
 }
 
 /// Per target label: (correct, judged, shifts).
@@ -219,6 +240,8 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
     let mut per_row: Vec<Vec<[Option<f64>; COLUMNS.len()]>> = vec![Vec::new(); ROWS.len()];
     let mut done = 0;
     let mut labels: Vec<LabelTally> = vec![BTreeMap::new(); ROWS.len()];
+    // Per part variant: (shifts on the lower body's descriptors, on the upper body's).
+    let mut part_shifts: Vec<(Vec<f64>, Vec<f64>)> = vec![(Vec::new(), Vec::new()); PART_VARIANTS.len()];
     let content_descriptors: Vec<_> =
         inputs.contents.iter().map(|c| inputs.directions.map(|_| descriptors(&c.motion))).collect();
     // The content classifier's view of every content and held-out take, judged once.
@@ -296,6 +319,24 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
                     .with_seed(seed)
                     .with_strength(inputs.strength)
                     .with_temperature(inputs.temperature);
+                if row == 3
+                    && inputs.parts
+                    && let (Some(dirs), Some(content_d)) = (inputs.directions, content_d.as_ref())
+                {
+                    let whole = stylize::stylize(inputs.weights, &content.motion, &request)?;
+                    let upper = PartRequests { upper: Some(request.clone()), ..Default::default() };
+                    let lower = PartRequests { lower: Some(request.clone()), ..Default::default() };
+                    let variants = [
+                        whole,
+                        stylize::stylize_parts(inputs.weights, &content.motion, &upper)?,
+                        stylize::stylize_parts(inputs.weights, &content.motion, &lower)?,
+                    ];
+                    for (tally, outputs) in part_shifts.iter_mut().zip(&variants) {
+                        let d = descriptors(&outputs[0]);
+                        tally.0.extend(dirs.shift_on(target, content_d, &d, &LOWER_BODY));
+                        tally.1.extend(dirs.shift_on(target, content_d, &d, &UPPER_BODY));
+                    }
+                }
                 let (output, pair) = if motion_based {
                     let mean = stylize::stylize(inputs.weights, &content.motion, &request)?.remove(0);
                     let draws = stylize::stylize(inputs.weights, &content.motion, &request.clone().with_samples(2))?;
@@ -374,5 +415,20 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
             Row { setting, values }
         })
         .collect();
-    Ok(Evaluation { rows, labels: label_rows })
+    let mean = |v: &[f64]| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
+    let parts = if inputs.parts {
+        PART_VARIANTS
+            .iter()
+            .zip(&part_shifts)
+            .map(|(&variant, (lower, upper))| PartShift {
+                variant,
+                outputs: lower.len().max(upper.len()),
+                lower: mean(lower),
+                upper: mean(upper),
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    Ok(Evaluation { rows, labels: label_rows, parts })
 }

@@ -4,7 +4,7 @@
 
 use serde_json::{Map, Value, json};
 
-use super::protocol::{COLUMNS, Evaluation, Row};
+use super::protocol::{COLUMNS, Evaluation, PartShift, Row};
 use super::shift::{DESCRIPTORS, Direction, Directions};
 
 /// What was evaluated, recorded beside the rows.
@@ -64,7 +64,11 @@ pub fn to_json(
             .collect();
         json!({"descriptors": DESCRIPTORS, "spread": d.spread, "styles": styles})
     });
-    json!({ "rows": rows, "labels": labels, "directions": directions, "provenance": provenance })
+    let mut doc = json!({ "rows": rows, "labels": labels, "directions": directions, "provenance": provenance });
+    if !eval.parts.is_empty() {
+        doc["parts"] = json!(eval.parts);
+    }
+    doc
 }
 
 /// The directions back from [`to_json`]'s `"directions"` (as `make eval` commits them in
@@ -156,6 +160,19 @@ pub fn to_table(rows: &[Row]) -> String {
             })
             .collect();
         out.push_str(&format!("| {} | {} |\n", row.setting, cells.join(" | ")));
+    }
+    out
+}
+
+/// The per-part table ([`PartShift`]): per variant, the style shift on the lower body's and the
+/// upper body's descriptors.
+pub fn parts_table(parts: &[PartShift]) -> String {
+    let f = |v: Option<f64>| v.map_or("—".to_string(), |v| format!("{v:.2}"));
+    let mut out = String::from(
+        "| label-based, style on | outputs | shift (lower-body descriptors) | shift (upper-body descriptors) |\n|---|---|---|---|\n",
+    );
+    for p in parts {
+        out.push_str(&format!("| {} | {} | {} | {} |\n", p.variant, p.outputs, f(p.lower), f(p.upper)));
     }
     out
 }

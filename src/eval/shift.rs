@@ -43,6 +43,11 @@ pub const DESCRIPTORS: [&str; 12] = [
 /// Number of descriptors.
 pub const N: usize = DESCRIPTORS.len();
 
+/// The descriptors of the lower body (root and legs: [`crate::stylize::BodyPart::Lower`]'s joints).
+pub const LOWER_BODY: [usize; 6] = [0, 1, 2, 8, 9, 11];
+/// The descriptors of the upper body (spine and arms: [`crate::stylize::BodyPart::Upper`]'s).
+pub const UPPER_BODY: [usize; 4] = [3, 5, 6, 7];
+
 /// Directions shorter than this (in spreads) are not scored.
 pub const MIN_DIRECTION: f64 = 0.3;
 
@@ -239,6 +244,19 @@ impl Directions {
         let dot: f64 = (0..N).map(|k| (output[k] - content[k]) / self.spread[k] * d.vector[k]).sum();
         Some(dot / (d.length * d.length))
     }
+
+    /// [`Directions::shift`] on a subset of the descriptors (e.g. [`UPPER_BODY`]): the output's
+    /// move along the style direction's part on those descriptors, ÷ that part's squared length;
+    /// `None` where the part of the direction is shorter than [`MIN_DIRECTION`].
+    pub fn shift_on(&self, style: usize, content: &Descriptors, output: &Descriptors, subset: &[usize]) -> Option<f64> {
+        let d = self.get(style).filter(|d| d.scored)?;
+        let length2: f64 = subset.iter().map(|&k| d.vector[k] * d.vector[k]).sum();
+        if length2.sqrt() < MIN_DIRECTION {
+            return None;
+        }
+        let dot: f64 = subset.iter().map(|&k| (output[k] - content[k]) / self.spread[k] * d.vector[k]).sum();
+        Some(dot / length2)
+    }
 }
 
 #[cfg(test)]
@@ -288,5 +306,20 @@ mod tests {
         assert!(dirs.shift(2, &dn, &df).unwrap() < 0.5);
         assert_eq!(dirs.get(1).unwrap().contents, 1);
         assert!(dirs.shift(5, &dn, &df).is_none(), "no direction for a style without takes");
+    }
+
+    #[test]
+    fn the_shift_on_a_part_sees_only_that_part() {
+        let take =
+            |content: &str, style, m: &Motion| Take { content: content.into(), style, descriptors: descriptors(m) };
+        // A style that bends the knees: its direction lies in the lower body's descriptors.
+        let (normal, bent) = (walk(60, 1.0, 0.1), walk(60, 1.0, 0.6));
+        let dirs = Directions::from_takes(&[take("1/walk", 0, &normal), take("1/walk", 1, &bent)], 0);
+        let (dn, db) = (descriptors(&normal), descriptors(&bent));
+        let lower = dirs.shift_on(1, &dn, &db, &LOWER_BODY).unwrap();
+        assert!((lower - 1.0).abs() < 0.2, "the real take on the legs: {lower}");
+        assert!(dirs.shift_on(1, &dn, &dn, &LOWER_BODY).unwrap().abs() < 1e-12);
+        // The arms did not move: the direction's upper-body part is too short to score.
+        assert!(dirs.shift_on(1, &dn, &db, &UPPER_BODY).is_none());
     }
 }
