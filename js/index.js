@@ -327,7 +327,6 @@ const BODY_PARTS = ['lower', 'upper', 'head'];
 /** Drawing the source file needs no more values than this (or frames faster than 60 fps). */
 const MAX_SOURCE_VALUES = 6_000_000;
 
-/** An imported motion (30 fps, canonical rig inside), ready to be stylized or used as a style. */
 /** The `map` option as JSON for the engine (undefined when absent). */
 function mapJson(options, what) {
   if (options == null || typeof options !== 'object') throw codedError('BAD_REQUEST', `${what}: options must be an object`);
@@ -339,11 +338,11 @@ function mapJson(options, what) {
   return JSON.stringify(map);
 }
 
+/** An imported motion (30 fps, canonical rig inside), ready to be stylized or used as a style. */
 export class Motion {
   #text;
   #inner;
   #made;
-
   #map;
 
   /** @internal */
@@ -767,13 +766,15 @@ export class Stylizer {
     if (unknown.length) throw codedError('BAD_REQUEST', `unknown body part ${unknown[0]} (they are ${BODY_PARTS.join(', ')})`);
     const hasMain = ['label', 'styleMotion', 'prior', 'mix'].some((k) => options[k] != null && options[k] !== false);
     const inferredLabels = {};
+    let main; // the options' own source, its label inferred once for every part that takes it
     const sources = BODY_PARTS.map((part) => {
       const given = parts[part];
       if (given === 'content' || (given == null && !hasMain)) return 'content';
       if (given != null && (typeof given !== 'object' || Array.isArray(given))) {
         throw codedError('BAD_REQUEST', `parts.${part} must be a style source ({ label }, { styleMotion }, { prior: true }, { mix }) or 'content'`);
       }
-      const [source, inferred] = this.#withInferredLabel(given ?? options, request.unsupervised);
+      if (given == null) main ??= this.#withInferredLabel(options, request.unsupervised);
+      const [source, inferred] = given == null ? main : this.#withInferredLabel(given, request.unsupervised);
       if (inferred !== undefined) inferredLabels[part] = inferred;
       return source;
     });
