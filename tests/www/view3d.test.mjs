@@ -104,6 +104,8 @@ test('the 3D view draws the bodies, moves between frames and orbits with the mou
 
   // Orbiting: a drag turns the camera around the bodies.
   const [still] = await pictures(page, [null]);
+  // The drag starts on the canvas: scrolled into view (clicking the player's buttons may have scrolled it away).
+  await page.locator('#view-3d').scrollIntoViewIfNeeded();
   const box = await page.locator('#view-3d').boundingBox();
   const camera = () => page.evaluate(() => window.__demo.view3d.camera.position.toArray());
   const from = await camera();
