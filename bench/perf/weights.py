@@ -116,16 +116,21 @@ def read_burnpack(data):
     return out
 
 
+def _unframe(data, magic, path, what):
+    """(header JSON, payload) of our framing (src/model/weights.rs `frame`): magic | u32 LE
+    header length | header JSON | payload."""
+    if data[:8] != magic:
+        raise ValueError(f"{path}: not {what}")
+    (n,) = struct.unpack_from("<I", data, 8)
+    return json.loads(data[12:12 + n]), memoryview(data)[12 + n:]
+
+
 def read_part(path):
     """(header dict, {parameter path: float32 array}) of a format-2 part file (f16 tensors; the
     int encodings are not read here: the benchmark runs the shipped f16 weights)."""
     with open(path, "rb") as f:
         data = f.read()
-    if data[:8] != PART_MAGIC:
-        raise ValueError(f"{path}: not a motion-stylizer weights part")
-    (n,) = struct.unpack_from("<I", data, 8)
-    header = json.loads(data[12:12 + n])
-    payload = memoryview(data)[12 + n:]
+    header, payload = _unframe(data, PART_MAGIC, path, "a motion-stylizer weights part")
     out = {}
     for t in header["tensors"]:
         if t["encoding"] != "f16":
@@ -155,11 +160,8 @@ def read_bundle(path):
         return header["config"], tensors
     with open(path, "rb") as f:
         data = f.read()
-    if data[:8] != BUNDLE_MAGIC:
-        raise ValueError(f"{path}: not a motion-stylizer weights bundle or part")
-    (n,) = struct.unpack_from("<I", data, 8)
-    config = json.loads(data[12:12 + n])
-    return config, read_burnpack(data[12 + n:])
+    config, payload = _unframe(data, BUNDLE_MAGIC, path, "a motion-stylizer weights bundle or part")
+    return config, read_burnpack(payload)
 
 
 if __name__ == "__main__":

@@ -12,7 +12,7 @@ use super::stylized::StylizedMotion;
 use crate::Motion;
 use crate::gltf::GltfOptions;
 use crate::stylize::weights::parse_manifest;
-use crate::stylize::{self, BodyPart, PartRequests, Request, Setting, WeightFiles, Weights};
+use crate::stylize::{self, BodyPart, PartRequests, Request, Setting, StyleSource, WeightFiles, Weights};
 
 /// The files a weights folder's `manifest.json` names, for the JS wrapper to fetch (the engine is
 /// the one reader of the manifest): JSON `{format, norm, shared: {file, bytes} | null, models:
@@ -116,14 +116,8 @@ impl Engine {
         options: JsValue,
     ) -> Result<Vec<StylizedMotion>, JsValue> {
         let options = StylizeOptions::from_js(&options)?;
-        let setting = if options.unsupervised { Setting::Unsupervised } else { Setting::Supervised };
         let source = style.source(&self.weights).map_err(|e| stylize_error(&e))?;
-        let request = Request::new(source)
-            .with_setting(setting)
-            .with_samples(options.samples)
-            .with_seed(options.seed)
-            .with_temperature(options.temperature)
-            .with_strength(options.strength);
+        let request = request_of(source, &options);
         let motions = stylize::stylize(&self.weights, &content.motion, &request).map_err(|e| stylize_error(&e))?;
         Ok(self.outputs(content, &motions, options.canonical))
     }
@@ -154,7 +148,6 @@ impl Engine {
         options: JsValue,
     ) -> Result<Vec<StylizedMotion>, JsValue> {
         let options = StylizeOptions::from_js(&options)?;
-        let setting = if options.unsupervised { Setting::Unsupervised } else { Setting::Supervised };
         let specs = [(BodyPart::Lower, lower), (BodyPart::Upper, upper), (BodyPart::Head, head)];
         let mut parts = PartRequests::default();
         for (part, spec) in specs {
@@ -162,13 +155,7 @@ impl Engine {
                 continue;
             }
             let source = spec.source(&self.weights).map_err(|e| stylize_error(&e))?;
-            let request = Request::new(source)
-                .with_setting(setting)
-                .with_samples(options.samples)
-                .with_seed(options.seed)
-                .with_temperature(options.temperature)
-                .with_strength(options.strength);
-            parts.set(part, request);
+            parts.set(part, request_of(source, &options));
         }
         let motions = stylize::stylize_parts(&self.weights, &content.motion, &parts).map_err(|e| stylize_error(&e))?;
         Ok(self.outputs(content, &motions, options.canonical))
@@ -191,4 +178,16 @@ impl Engine {
     pub fn panic_for_tests(&self) {
         panic!("a deliberate panic for the tests (Engine.__panicForTests)");
     }
+}
+
+/// The pipeline's request for `source` with the JS options (model, samples, seed, temperature,
+/// strength): one place for `stylize` and every part of `stylizeParts`.
+fn request_of<'a>(source: StyleSource<'a>, options: &StylizeOptions) -> Request<'a> {
+    let setting = if options.unsupervised { Setting::Unsupervised } else { Setting::Supervised };
+    Request::new(source)
+        .with_setting(setting)
+        .with_samples(options.samples)
+        .with_seed(options.seed)
+        .with_temperature(options.temperature)
+        .with_strength(options.strength)
 }
