@@ -127,9 +127,10 @@ mod strip {
         let name = a.content.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
         let _ = writeln!(
             svg,
-            "<text x=\"{LEFT}\" y=\"22\">stylized: label-based, strength {}, seed {}</text>\
+            "<text x=\"{LEFT}\" y=\"22\">stylized: label-based, strength {}, guidance {}, seed {}</text>\
              <text x=\"{:.0}\" y=\"22\">a real walk take of the label</text>",
             a.strength,
+            stylize::DEFAULT_GUIDANCE,
             a.seed,
             LEFT + half + GAP
         );

@@ -181,6 +181,12 @@ export type StylizeOptions = (StyleSource | {}) & {
    * the stylizer's output, 2 twice its change (exaggerated). The style shift grows with it.
    */
   strength?: number;
+  /**
+   * Style guidance, 0-3 (default the library's): how much further the output goes along the
+   * difference between the style's output and the neutral style's (`normal`) for the same
+   * content; 0 is the networks' output as trained.
+   */
+  guidance?: number;
   /** Output skeleton: the content's own rig (default) or the canonical 21-joint rig. */
   rig?: 'content' | 'canonical';
 };

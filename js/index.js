@@ -713,12 +713,13 @@ export class Stylizer {
    * (+ label for the supervised model) | prior: true | mix: {a, b, t}), unsupervised, samples
    * (1-64), seed (integer or BigInt), rig ('content' | 'canonical'), temperature (scale of prior
    * draws, 0-4; default the library's, 0.3), strength (how far towards the style, 0-2: 0 the
-   * content itself, 1 the default, 2 exaggerated), parts ({ lower?, upper?, head? }: a style
+   * content itself, 1 the default, 2 exaggerated), guidance (0-3, default the library's: how much
+   * further the output goes from what the neutral style, `normal`, gives the same content), parts ({ lower?, upper?, head? }: a style
    * source per body part, or 'content' to keep the content's own motion there; the parts not
    * named take the options' own style, or keep the content without one).
    */
   async stylize(content, options = {}) {
-    const { unsupervised = false, samples = 1, seed = 0, rig = 'content', temperature, strength } = options;
+    const { unsupervised = false, samples = 1, seed = 0, rig = 'content', temperature, strength, guidance } = options;
     if (typeof unsupervised === 'boolean') await this.#ensure(unsupervised ? 'unsupervised' : 'supervised');
     const motion = engineMotion(this.asMotion(content, 'content'));
     if (rig !== 'content' && rig !== 'canonical') throw codedError('BAD_REQUEST', "rig must be 'content' or 'canonical'");
@@ -730,7 +731,10 @@ export class Stylizer {
     if (strength !== undefined && typeof strength !== 'number') {
       throw codedError('BAD_REQUEST', 'strength must be a number in [0, 2]');
     }
-    if (options.parts != null) return this.#stylizeParts(motion, options, { unsupervised, samples, seed, canonical: rig === 'canonical', temperature, strength });
+    if (guidance !== undefined && typeof guidance !== 'number') {
+      throw codedError('BAD_REQUEST', 'guidance must be a number in [0, 3]');
+    }
+    if (options.parts != null) return this.#stylizeParts(motion, options, { unsupervised, samples, seed, canonical: rig === 'canonical', temperature, strength, guidance });
     // Supervised motion-based without a label: the reference's label is inferred and reported.
     let inferredLabel;
     [options, inferredLabel] = this.#withInferredLabel(options, unsupervised);
@@ -738,7 +742,7 @@ export class Stylizer {
     const made = generation;
     const spec = styleSpec(this, options, 0);
     try {
-      const request = { unsupervised, samples, seed, canonical: rig === 'canonical', temperature, strength };
+      const request = { unsupervised, samples, seed, canonical: rig === 'canonical', temperature, strength, guidance };
       const outputs = guard(() => engine.stylize(motion, spec, request).map((o) => new StylizedMotion(o)));
       if (inferredLabel !== undefined) for (const o of outputs) o.inferredLabel = inferredLabel;
       return outputs;

@@ -410,6 +410,28 @@ fn strength_scales_the_change_and_is_checked() {
     }
 }
 
+/// Guidance: the default is [`stylize::DEFAULT_GUIDANCE`] (1), 0 another motion (the networks'
+/// output as trained); outside [0, 3] or not finite is refused; strength 0 is still the content.
+#[test]
+fn guidance_is_the_default_and_is_checked() {
+    let w = weights();
+    let content = import("bandai", SHORT).motion;
+    let request = Request::new(StyleSource::Label(label(&w, "old"))).with_seed(2);
+    assert_eq!(request.guidance, stylize::DEFAULT_GUIDANCE);
+    let at = |g: f32| stylize::stylize(&w, &content, &request.clone().with_guidance(g));
+    assert_eq!(at(1.0).unwrap(), stylize::stylize(&w, &content, &request).unwrap());
+    assert_ne!(at(0.0).unwrap(), at(1.0).unwrap());
+    assert_eq!(
+        stylize::stylize(&w, &content, &request.clone().with_guidance(2.0).with_strength(0.0)).unwrap(),
+        vec![content.clone()]
+    );
+    for g in [-0.1, 3.01, f32::NAN, f32::INFINITY] {
+        let err = at(g).unwrap_err();
+        assert!(matches!(err, StylizeError::Guidance { max, .. } if max == 3.0), "{g}: {err:?}");
+        assert_eq!(err.code(), "BAD_REQUEST");
+    }
+}
+
 /// Per-body-part styles: each part's joints (local rotations) come from its own request's output,
 /// the root and legs from the lower body's; a part without a request keeps the content's; parts
 /// with one request equal the whole-body stylization; bad part requests are typed errors.

@@ -58,6 +58,9 @@ pub struct EvalArgs {
     /// Style strength of every stylization (0-2; see `stylize --strength`).
     #[arg(long, default_value_t = motion_stylizer::stylize::DEFAULT_STRENGTH, value_name = "S")]
     strength: f32,
+    /// Style guidance of every stylization (0-3; see `stylize --guidance`).
+    #[arg(long, default_value_t = motion_stylizer::stylize::DEFAULT_GUIDANCE, value_name = "G")]
+    guidance: f32,
     /// Temperature of the prior draws (see `stylize --temperature`).
     #[arg(long, default_value_t = motion_stylizer::stylize::DEFAULT_TEMPERATURE, value_name = "T")]
     temperature: f32,
@@ -150,6 +153,7 @@ pub fn run(args: &EvalArgs) -> anyhow::Result<()> {
         directions: Some(&directions),
         content_judge: content_judge.as_ref(),
         strength: args.strength,
+        guidance: args.guidance,
         temperature: args.temperature,
         parts: args.parts,
     };

@@ -47,6 +47,11 @@ pub struct StylizeArgs {
     /// output, 2 twice its change (exaggerated).
     #[arg(long, default_value_t = stylize::DEFAULT_STRENGTH, value_name = "S")]
     strength: f32,
+    /// Style guidance, 0-3: how much further the output goes along the difference between the
+    /// style's and the neutral style's (`normal`) outputs for this content; 0 is the networks'
+    /// output as trained (see the README's "Strength and guidance").
+    #[arg(long, default_value_t = stylize::DEFAULT_GUIDANCE, value_name = "G")]
+    guidance: f32,
     /// Write the output on the canonical 21-joint rig instead of the content's own rig.
     #[arg(long)]
     canonical: bool,
@@ -263,6 +268,7 @@ pub fn run(args: &StylizeArgs) -> anyhow::Result<()> {
         seed: args.seed,
         temperature: args.temperature,
         strength: args.strength,
+        guidance: args.guidance,
     };
     let main_resolved = main.as_ref().map(|m| resolve_style(m, &weights, setting, style_map.as_ref())).transpose()?.flatten();
     let part_resolved: Vec<_> = BodyPart::ALL

@@ -82,6 +82,8 @@ pub struct Inputs<'a> {
     pub content_judge: Option<&'a Judge>,
     /// The stylizations' [`Request::strength`] and [`Request::temperature`].
     pub strength: f32,
+    /// The stylizations' [`Request::guidance`].
+    pub guidance: f32,
     pub temperature: f32,
     /// Also measure per-part styles ([`PartShift`]): label-based with the target on the upper
     /// body only and on the lower body only, beside the whole body.
@@ -318,6 +320,7 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
                     .with_setting(setting)
                     .with_seed(seed)
                     .with_strength(inputs.strength)
+                    .with_guidance(inputs.guidance)
                     .with_temperature(inputs.temperature);
                 if row == 3
                     && inputs.parts

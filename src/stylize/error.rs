@@ -48,6 +48,9 @@ pub enum StylizeError {
     /// A style strength that is not a finite number in [0, max].
     #[error("strength must be between 0 and {max}, got {got}")]
     Strength { got: f32, max: f32 },
+    /// A style guidance that is not a finite number in [0, max].
+    #[error("guidance must be between 0 and {max}, got {got}")]
+    Guidance { got: f32, max: f32 },
     /// Per-body-part requests that cannot be combined (none given, sample counts that differ).
     #[error("body parts: {0}")]
     Parts(String),
@@ -74,7 +77,7 @@ pub enum StylizeError {
 impl StylizeError {
     /// A stable, machine-readable name of the failure class (the npm package's `error.code`):
     /// `UNKNOWN_LABEL`, `SETTING_UNAVAILABLE`, `BAD_REQUEST` (a request the model cannot serve:
-    /// samples, temperature, strength, mix weight or depth, body parts, a label where none fits or none where one is needed),
+    /// samples, temperature, strength, guidance, mix weight or depth, body parts, a label where none fits or none where one is needed),
     /// `TOO_LONG`, `BAD_WEIGHTS`, `MODEL_OUTPUT`, `INTERNAL`, or the import's code
     /// ([`ImportError::code`]).
     pub fn code(&self) -> &'static str {
@@ -90,6 +93,7 @@ impl StylizeError {
             | MixTooDeep { .. }
             | Temperature { .. }
             | Strength { .. }
+            | Guidance { .. }
             | Parts(_) => "BAD_REQUEST",
             TooLong { .. } => "TOO_LONG",
             BadWeights(_) | Read { .. } => "BAD_WEIGHTS",

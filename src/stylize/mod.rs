@@ -43,6 +43,10 @@
 //!   (not its reconstruction by the autoencoder). Extrapolating in the latent space rather than on
 //!   poses keeps the decoder's own motion prior (bone lengths, foot contacts, root from the
 //!   regressor): the style shift grows monotonically with `s` (tested on the shipped weights).
+//! - **Guidance.** [`Request::guidance`] `g` (default [`DEFAULT_GUIDANCE`]) pushes the generator's
+//!   latent further along what makes the style differ from the neutral style on the same content:
+//!   `G_s + g·((G_s − G_n) + ½(z_c − G_n))`, one generator pass more (see its doc and
+//!   EVALUATION.md); strength applies to the guided latent.
 //! - **Label codes.** Label-based codes are drawn around the label's centre in the style space
 //!   (the mean posterior of its training takes, [`Manifest`]'s `label_codes`), not around 0:
 //!   `centre + temperature · N(0, I)`; weights without label codes draw around 0.
@@ -71,7 +75,7 @@ pub use parts::{BodyPart, PartRequests, stylize_parts};
 pub use manifest::{LabelCodes, Manifest, ModelEntry, StageRecord};
 pub use pipeline::{MAX_FRAMES, infer_label, pad_features, padded_frames, style_code_of, stylize};
 pub use source::{
-    DEFAULT_STRENGTH, DEFAULT_TEMPERATURE, MAX_MIX_DEPTH, MAX_SAMPLES, MAX_STRENGTH, MAX_TEMPERATURE, Request,
-    StyleSource,
+    DEFAULT_GUIDANCE, DEFAULT_STRENGTH, DEFAULT_TEMPERATURE, MAX_GUIDANCE, MAX_MIX_DEPTH, MAX_SAMPLES, MAX_STRENGTH,
+    MAX_TEMPERATURE, Request, StyleSource,
 };
 pub use weights::{Setting, Weights, WeightFiles};

@@ -275,10 +275,8 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
         if let Stage::Stylizer { supervised, .. } = stage
             && *supervised != config.supervised.unwrap_or(true)
         {
-            bail!(
-                "supervised {supervised} differs from the run's {}: a resumed run keeps its settings",
-                config.supervised.unwrap_or(true)
-            );
+            let (run, flag) = if *supervised { ("an unsupervised", "with") } else { ("a supervised", "without") };
+            bail!("--resume: {} is {run} stylizer run: resume it {flag} --unsupervised", out.display());
         }
         opts.settings.check_same(&config.settings)?;
         if let Some(from) = &opts.from

@@ -102,11 +102,12 @@ impl Engine {
     }
 
     /// Stylizes `content` with the style of `style`. `options` (each property optional, as is the
-    /// object): `{ unsupervised, samples, seed, canonical, temperature, strength }`: `samples`
-    /// outputs (1–64, default 1) from `seed` (a non-negative safe integer or a BigInt below 2^64,
-    /// default 0), with the unsupervised model or the supervised one (default), each on the
-    /// canonical rig or the content's own (default), prior draws scaled by `temperature` (default
-    /// the library's), the style's change scaled by `strength` (0–2, default 1; 0 is the content).
+    /// object): `{ unsupervised, samples, seed, canonical, temperature, strength, guidance }`:
+    /// `samples` outputs (1–64, default 1) from `seed` (a non-negative safe integer or a BigInt
+    /// below 2^64, default 0), with the unsupervised model or the supervised one (default), each on
+    /// the canonical rig or the content's own (default), prior draws scaled by `temperature`
+    /// (default the library's), pushed past the neutral style's output by `guidance` (0–3, default
+    /// the library's), the change scaled by `strength` (0–2, default 1; 0 is the content).
     /// Errors: see [`crate::stylize::StylizeError::code`], and `BAD_REQUEST` for options of the
     /// wrong type and `samples` or `seed` values that are not integers in range.
     pub fn stylize(
@@ -181,7 +182,7 @@ impl Engine {
 }
 
 /// The pipeline's request for `source` with the JS options (model, samples, seed, temperature,
-/// strength): one place for `stylize` and every part of `stylizeParts`.
+/// strength, guidance): one place for `stylize` and every part of `stylizeParts`.
 fn request_of<'a>(source: StyleSource<'a>, options: &StylizeOptions) -> Request<'a> {
     let setting = if options.unsupervised { Setting::Unsupervised } else { Setting::Supervised };
     Request::new(source)
@@ -190,4 +191,5 @@ fn request_of<'a>(source: StyleSource<'a>, options: &StylizeOptions) -> Request<
         .with_seed(options.seed)
         .with_temperature(options.temperature)
         .with_strength(options.strength)
+        .with_guidance(options.guidance)
 }

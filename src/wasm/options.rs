@@ -4,9 +4,10 @@
 use wasm_bindgen::JsValue;
 
 use super::error::bad_request;
-use crate::stylize::{DEFAULT_STRENGTH, DEFAULT_TEMPERATURE};
+use crate::stylize::{DEFAULT_GUIDANCE, DEFAULT_STRENGTH, DEFAULT_TEMPERATURE};
 
-/// `{ unsupervised, samples, seed, canonical, temperature, strength }`; a property that is `undefined` (or
+/// `{ unsupervised, samples, seed, canonical, temperature, strength, guidance }`; a
+/// property that is `undefined` (or
 /// `null`, or an options object that is `undefined`) takes its default.
 #[derive(Debug, PartialEq)]
 pub(super) struct StylizeOptions {
@@ -23,6 +24,9 @@ pub(super) struct StylizeOptions {
     /// How far towards the style: 0 the content, 1 the default, 2 exaggerated (the pipeline
     /// refuses values outside [0, 2]).
     pub strength: f32,
+    /// How much further from the neutral style's output (the pipeline refuses values outside
+    /// [0, 3]). Default the library's.
+    pub guidance: f32,
 }
 
 impl StylizeOptions {
@@ -39,6 +43,7 @@ impl StylizeOptions {
             canonical: flag(&get("canonical")?, "canonical")?,
             temperature: number(&get("temperature")?, "temperature", DEFAULT_TEMPERATURE, "[0, 4]")?,
             strength: number(&get("strength")?, "strength", DEFAULT_STRENGTH, "[0, 2]")?,
+            guidance: number(&get("guidance")?, "guidance", DEFAULT_GUIDANCE, "[0, 3]")?,
         })
     }
 }

@@ -162,6 +162,9 @@ test('stylize: every style source; seeds are deterministic', async () => {
   assert.deepEqual(await bvh({ label: 'old', strength: 0 }), await bvh({ label: 'sad', seed: 3, strength: 0 }));
   assert.deepEqual(await bvh({ label: 'old', seed: 1, strength: 1 }), await bvh({ label: 'old', seed: 1 }));
   assert.notDeepEqual(await bvh({ label: 'old', seed: 1, strength: 2 }), await bvh({ label: 'old', seed: 1 }));
+  // Guidance: the default is the library's, 0 the networks' output as trained (another motion).
+  assert.deepEqual(await bvh({ label: 'old', seed: 1, guidance: 1 }), await bvh({ label: 'old', seed: 1 }));
+  assert.notDeepEqual(await bvh({ label: 'old', seed: 1, guidance: 0 }), await bvh({ label: 'old', seed: 1 }));
   // A mix at t = 0 is its first source.
   assert.deepEqual(await bvh({ mix: { a: { label: 'old' }, b: { label: 'sad' }, t: 0 }, seed: 4 }), await bvh({ label: 'old', seed: 4 }));
 });
@@ -208,6 +211,9 @@ test('errors: stable codes', async () => {
   await rejects(() => s.stylize(content, { label: 'old', strength: 2.5 }), 'BAD_REQUEST');
   await rejects(() => s.stylize(content, { label: 'old', strength: -1 }), 'BAD_REQUEST');
   await rejects(() => s.stylize(content, { label: 'old', strength: '1' }), 'BAD_REQUEST');
+  await rejects(() => s.stylize(content, { label: 'old', guidance: 3.5 }), 'BAD_REQUEST');
+  await rejects(() => s.stylize(content, { label: 'old', guidance: -0.5 }), 'BAD_REQUEST');
+  await rejects(() => s.stylize(content, { label: 'old', guidance: '1' }), 'BAD_REQUEST');
   await rejects(() => s.stylize(content, { mix: { a: { label: 'old' }, b: { label: 'sad' }, t: 2 } }), 'BAD_REQUEST');
   await rejects(() => s.stylize(content, { mix: { a: { label: 'old' }, t: 0.5 } }), 'BAD_REQUEST');
   let deep = { prior: true };

@@ -119,6 +119,14 @@ test('upload a fixture, stylize by label, views move, download a BVH that parses
     e.dispatchEvent(new Event('change', { bubbles: true }));
   });
   assert.equal(await page.textContent('#strength-label'), '1.50');
+  // And the guidance slider (default 1).
+  assert.equal(await page.inputValue('#guidance'), '1');
+  await page.$eval('#guidance', (e) => {
+    e.value = '0.5';
+    e.dispatchEvent(new Event('input', { bubbles: true }));
+    e.dispatchEvent(new Event('change', { bubbles: true }));
+  });
+  assert.equal(await page.textContent('#guidance-label'), '0.50');
   await stylize(page);
   assert.match(await page.textContent('#status'), /Stylized as “proud”/);
 
@@ -164,6 +172,7 @@ test('upload a fixture, stylize by label, views move, download a BVH that parses
   assert.equal(await other.inputValue('#label'), 'proud');
   assert.equal(await other.inputValue('#seed'), '5');
   assert.equal(await other.inputValue('#strength'), '1.5');
+  assert.equal(await other.inputValue('#guidance'), '0.5');
   const again = await download(other);
   assert.equal(again.text, uploadedBvh);
   await other.context().close();

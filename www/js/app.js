@@ -277,10 +277,12 @@ document.querySelector('.panel').addEventListener('change', syncControls);
 el('mix-t').addEventListener('input', syncControls);
 el('temperature').addEventListener('input', syncControls);
 el('strength').addEventListener('input', syncControls);
-// The mix and strength sliders restyle as they are released (one request at a time; the latest
+el('guidance').addEventListener('input', syncControls);
+// The mix, strength and guidance sliders restyle as they are released (one request at a time; the latest
 // position wins).
 el('mix-t').addEventListener('change', () => state.made && stylize());
 el('strength').addEventListener('change', () => state.made && stylize());
+el('guidance').addEventListener('change', () => state.made && stylize());
 
 // ---------- download, share ----------
 

@@ -34,6 +34,7 @@ export function readControls() {
     samples: Math.max(1, Math.min(8, Math.floor(Number(el('samples').value) || 1))),
     temperature: Number(el('temperature').value),
     strength: Number(el('strength').value),
+    guidance: Number(el('guidance').value),
     rig: el('rig').value,
     parts: Object.fromEntries(PARTS.map((p) => [p, el(`part-${p}`).value])),
   };
@@ -70,6 +71,7 @@ export function writeControls(c) {
   el('samples').value = String(c.samples);
   el('temperature').value = String(c.temperature);
   el('strength').value = String(c.strength);
+  el('guidance').value = String(c.guidance);
   syncControls();
 }
 
@@ -98,6 +100,7 @@ export function syncControls() {
   el('mix-t-label').textContent = Number(el('mix-t').value).toFixed(2);
   el('temperature-label').textContent = Number(el('temperature').value).toFixed(2);
   el('strength-label').textContent = Number(el('strength').value).toFixed(2);
+  el('guidance-label').textContent = Number(el('guidance').value).toFixed(2);
 }
 
 /** Whether the controls use the reference motion. */
@@ -124,7 +127,7 @@ export function requestOf(c) {
         return [p, v === 'content' ? 'content' : v === 'motion' ? part({ kind: 'motion' }) : part({ kind: 'label', label: v.slice('label:'.length) })];
       }))
     : undefined;
-  return { source, parts, unsupervised, samples: c.samples, seed: c.seed, temperature: c.temperature, strength: c.strength, rig: 'content' };
+  return { source, parts, unsupervised, samples: c.samples, seed: c.seed, temperature: c.temperature, strength: c.strength, guidance: c.guidance, rig: 'content' };
 }
 
 /** A short name of the style (file names, captions). */

@@ -1,5 +1,5 @@
 // Share links: everything needed to reproduce a result (the motions — a sample's id, or the BVH
-// text compressed —, style source, model, labels, seed, samples, temperature, strength, mix t, the picked
+// text compressed —, style source, model, labels, seed, samples, temperature, strength, guidance, mix t, the picked
 // sample, and a fingerprint of the weights that made it) as JSON, deflate-raw compressed and base64url-encoded into the URL fragment (#s=...).
 // Decoding is defensive: size limits before and while inflating, and every field validated; the
 // BVH text itself is validated later by the package's importer.
@@ -119,6 +119,8 @@ export async function decodeState(hash, sampleIds) {
     temperature: number(raw.temperature, 0, 4, 0.3),
     // Links from before the strength control reproduce the default, 1.
     strength: number(raw.strength, 0, 2, 1),
+    // Links from before the guidance control reproduce what they made: no guidance.
+    guidance: number(raw.guidance, 0, 3, 0),
     pick: Math.floor(number(raw.pick, 0, 7, 0)),
     rig: oneOf(raw.rig, ['content', 'canonical'], 'content'),
     // Links from before body parts: every part takes the style.

@@ -97,7 +97,7 @@ const ops = {
     };
   },
 
-  async stylize({ source, parts, unsupervised, samples, seed, temperature, strength, rig, only, glb }, progress) {
+  async stylize({ source, parts, unsupervised, samples, seed, temperature, strength, guidance, rig, only, glb }, progress) {
     // The unsupervised model is fetched when it is first used: its download is this request's progress.
     reportProgress = progress;
     const content = slots.get('content');
@@ -108,7 +108,7 @@ const ops = {
     const inferredLabel = !unsupervised && ref && needsLabel(source) ? stylizer.inferLabel(ref) : undefined;
     // Parts of their own: 'content', or a source (a reference without a label: the package infers it per part).
     const own = parts && Object.fromEntries(Object.entries(parts).map(([p, v]) => [p, v === 'content' ? 'content' : styleOf(v)]));
-    const outputs = await stylizer.stylize(content, { ...styleOf(source, inferredLabel), parts: own, unsupervised, samples, seed, temperature, strength, rig });
+    const outputs = await stylizer.stylize(content, { ...styleOf(source, inferredLabel), parts: own, unsupervised, samples, seed, temperature, strength, guidance, rig });
     const ms = performance.now() - t0;
     const picked = only == null ? outputs : [outputs[only]];
     const result = picked.map((o) => ({
