@@ -92,6 +92,22 @@ impl Motion {
         Motion { root: self.root[start..end].to_vec(), rotations: self.rotations[start..end].to_vec() }
     }
 
+    /// This motion with the local rotations of `joints` taken from `other` in every frame (the
+    /// same number of frames, else `None`). Both rotations are unit already, so nothing is
+    /// renormalised: every other value keeps its exact bits.
+    pub fn with_joints_from(&self, other: &Motion, joints: &[usize]) -> Option<Motion> {
+        if other.frames() != self.frames() || joints.iter().any(|&j| j >= NUM_JOINTS) {
+            return None;
+        }
+        let mut rotations = self.rotations.clone();
+        for (pose, source) in rotations.iter_mut().zip(&other.rotations) {
+            for &j in joints {
+                pose[j] = source[j];
+            }
+        }
+        Some(Motion { root: self.root.clone(), rotations })
+    }
+
     /// The left/right mirror image: reflect X, swap left and right joints.
     pub fn mirrored(&self) -> Motion {
         // A reflection x → -x turns a rotation q = (w, x, y, z) into (w, x, -y, -z).

@@ -125,19 +125,11 @@ pub fn stylize_parts(
 /// The lower body's root and legs, the upper body's spine and arms, the head's neck and head, as
 /// one motion (all three as long as each other, on the canonical rig).
 pub fn combine([lower, upper, head]: [&Motion; 3]) -> Result<Motion, StylizeError> {
-    let frames = lower.frames();
-    if upper.frames() != frames || head.frames() != frames {
-        return Err(StylizeError::Parts("the parts' motions differ in length".into()));
-    }
-    let mut rotations = lower.rotations().to_vec();
-    for (part, motion) in [(BodyPart::Upper, upper), (BodyPart::Head, head)] {
-        for (pose, source) in rotations.iter_mut().zip(motion.rotations()) {
-            for &j in part.joints() {
-                pose[j] = source[j];
-            }
-        }
-    }
-    Motion::new(lower.root_positions().to_vec(), rotations).map_err(|e| StylizeError::Parts(e.to_string()))
+    // Rotations copied as they are (no renormalisation): the lower body's joints and root keep
+    // the exact bits of its own output.
+    let differ = || StylizeError::Parts("the parts' motions differ in length".into());
+    let with_upper = lower.with_joints_from(upper, BodyPart::Upper.joints()).ok_or_else(differ)?;
+    with_upper.with_joints_from(head, BodyPart::Head.joints()).ok_or_else(differ)
 }
 
 #[cfg(test)]
