@@ -119,7 +119,8 @@ bench-train:
 	  --threads $(BENCH_TRAIN_THREADS) --widths $(BENCH_TRAIN_WIDTHS) --quiet-wait $(BENCH_TRAIN_QUIET_WAIT)
 
 ## setup-gpu: a Vulkan driver for the wgpu device (Mesa's lavapipe when none is installed; idempotent)
-## test-gpu: the wgpu device against the CPU (tests/device_wgpu.rs: the shipped weights' stylization, training steps)
+## test-gpu: the wgpu device against the CPU (tests/device_wgpu.rs: the shipped weights' stylization, training steps);
+## not part of `make test`: the test takes 14 s on lavapipe, but the `wgpu` feature is a second build of Burn (27 min here)
 ## bench-gpu: training steps (width 0.5, 1) and 160-frame stylizations (1, 10 samples) on wgpu and on the CPU
 .PHONY: setup-gpu test-gpu bench-gpu
 setup-gpu:
