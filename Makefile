@@ -118,6 +118,20 @@ bench-train:
 	node bench/perf/train_run.mjs --rounds $(BENCH_TRAIN_ROUNDS) --repeats $(BENCH_TRAIN_REPEATS) \
 	  --threads $(BENCH_TRAIN_THREADS) --widths $(BENCH_TRAIN_WIDTHS) --quiet-wait $(BENCH_TRAIN_QUIET_WAIT)
 
+## setup-gpu: a Vulkan driver for the wgpu device (Mesa's lavapipe when none is installed; idempotent)
+## test-gpu: the wgpu device against the CPU (tests/device_wgpu.rs: the shipped weights' stylization, training steps);
+## not part of `make test`: the test takes 14 s on lavapipe, but the `wgpu` feature is a second build of Burn (27 min here)
+## bench-gpu: training steps (width 0.5, 1) and 160-frame stylizations (1, 10 samples) on wgpu and on the CPU
+.PHONY: setup-gpu test-gpu bench-gpu
+setup-gpu:
+	scripts/setup-gpu.sh
+
+test-gpu: setup-gpu
+	$(CARGO) test --release --features wgpu --test device_wgpu
+
+bench-gpu: setup-gpu
+	$(CARGO) run --release --features wgpu --example gpu_bench
+
 ## bench: parse + retarget + features throughput, and BVH parsing against three.js
 bench:
 	$(CARGO) run --release --example pipeline_throughput

@@ -140,6 +140,16 @@ fn errors_are_clear_and_exit_non_zero() {
 
     let err = fails(&with(&["--label", "old", "--style-motion", s(&dir.join("missing.bvh"))]));
     assert!(err.contains("missing.bvh"), "{err}");
+
+    let err = fails(&with(&["--label", "old", "--device", "tpu"]));
+    assert!(err.contains("unknown device") && err.contains("cpu, wgpu and cuda"), "{err}");
+    // A device this build lacks names the cargo feature that builds it in.
+    for (name, compiled) in [("wgpu", cfg!(feature = "wgpu")), ("cuda", cfg!(feature = "cuda"))] {
+        if !compiled {
+            let err = fails(&with(&["--label", "old", "--device", name]));
+            assert!(err.contains(&format!("no {name} device")) && err.contains(&format!("--features {name}")), "{err}");
+        }
+    }
     assert!(!out.exists(), "nothing is written on error");
 }
 

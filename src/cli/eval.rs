@@ -2,6 +2,7 @@
 //! [`motion_stylizer::eval`].
 
 use anyhow::Context;
+use burn::tensor::Device;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use motion_stylizer::dataset::Style;
@@ -12,6 +13,7 @@ use motion_stylizer::eval::report::{self, Provenance};
 use motion_stylizer::eval::shift::Directions;
 use motion_stylizer::eval::{direction_takes, heldout_of, import_takes, load_contents};
 use motion_stylizer::features::NormStats;
+use motion_stylizer::model::device::DeviceName;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -64,6 +66,10 @@ pub struct EvalArgs {
     /// Temperature of the prior draws (see `stylize --temperature`).
     #[arg(long, default_value_t = motion_stylizer::stylize::DEFAULT_TEMPERATURE, value_name = "T")]
     temperature: f32,
+    /// Compute device of the stylizers and classifiers: cpu (flex), wgpu (cargo feature `wgpu`)
+    /// or cuda (feature `cuda`).
+    #[arg(long, default_value_t = DeviceName::Cpu, value_name = "cpu|wgpu|cuda")]
+    device: DeviceName,
 }
 
 fn crate_path(rel: &str) -> PathBuf {
@@ -77,9 +83,16 @@ fn shown(path: &Path) -> String {
 
 /// A trained classifier (`what`: "style", "content") from `path`, which must know `classes`
 /// classes (`of`: what they are, for the error).
-fn load_judge(path: &Path, what: &str, norm: &NormStats, classes: usize, of: &str) -> anyhow::Result<Judge> {
+fn load_judge(
+    device: &Device,
+    path: &Path,
+    what: &str,
+    norm: &NormStats,
+    classes: usize,
+    of: &str,
+) -> anyhow::Result<Judge> {
     let bytes = std::fs::read(path).with_context(|| format!("cannot read the {what} classifier {}", path.display()))?;
-    let judge = Judge::from_bytes(&bytes, norm.clone())
+    let judge = Judge::from_bytes_on(device, &bytes, norm.clone())
         .with_context(|| format!("{} is not a {what} classifier", path.display()))?;
     anyhow::ensure!(
         judge.num_styles() == classes,
@@ -94,16 +107,20 @@ pub fn run(args: &EvalArgs) -> anyhow::Result<()> {
     anyhow::ensure!(args.repeats >= 1, "--repeats must be at least 1");
     let t0 = Instant::now();
     let weights_dir = args.weights.clone().unwrap_or_else(super::stylize::default_weights_dir);
-    let weights = super::stylize::load_weights(&weights_dir)?;
+    let device = super::stylize::open_device(args.device)?;
+    let weights = super::stylize::load_weights_on(&device, &weights_dir)?;
     let classifier_path = args.classifier.clone().unwrap_or_else(|| crate_path("assets/eval/classifier.bin"));
-    let judge = load_judge(&classifier_path, "style", weights.norm(), weights.styles().len(), "the weights' styles")?;
+    let judge =
+        load_judge(&device, &classifier_path, "style", weights.norm(), weights.styles().len(), "the weights' styles")?;
 
     let content_path = match &args.content_classifier {
         Some(p) => Some(p.clone()),
         None => Some(crate_path("assets/eval/content-classifier.bin")).filter(|p| p.is_file()),
     };
     let content_judge = match &content_path {
-        Some(path) => Some(load_judge(path, "content", weights.norm(), CONTENTS.len(), "the content classes")?),
+        Some(path) => {
+            Some(load_judge(&device, path, "content", weights.norm(), CONTENTS.len(), "the content classes")?)
+        }
         None => {
             eprintln!("no content classifier (assets/eval/content-classifier.bin): no content_acc, content_fid");
             None

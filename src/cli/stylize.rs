@@ -7,6 +7,7 @@ use super::output::Rig;
 use anyhow::{Context, bail};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use motion_stylizer::model::device::{self, DeviceName};
 use motion_stylizer::skeleton::{self, Imported};
 use motion_stylizer::stylize::{self, BodyPart, PartRequests, Request, Setting, StyleSource, Weights};
 use std::path::{Path, PathBuf};
@@ -80,6 +81,9 @@ pub struct StylizeArgs {
     /// The format of a batch's outputs (a single output's comes from its extension).
     #[arg(long, value_enum, default_value_t = BatchFormat::Bvh)]
     format: BatchFormat,
+    /// Compute device: cpu (flex), wgpu (cargo feature `wgpu`) or cuda (feature `cuda`).
+    #[arg(long, default_value_t = DeviceName::Cpu, value_name = "cpu|wgpu|cuda")]
+    device: DeviceName,
 }
 
 /// The file format of a batch's outputs.
@@ -155,12 +159,26 @@ pub fn default_weights_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("assets").join("weights")
 }
 
-/// Loads the weights folder, with an error that says what to do when there is none.
+/// Loads the weights folder onto the CPU, with an error that says what to do when there is none.
 pub fn load_weights(dir: &Path) -> anyhow::Result<Weights> {
+    load_weights_on(&burn::tensor::Device::flex(), dir)
+}
+
+/// [`load_weights`] onto `device`.
+pub fn load_weights_on(device: &burn::tensor::Device, dir: &Path) -> anyhow::Result<Weights> {
     if !dir.join("manifest.json").is_file() {
         bail!("no trained weights at {}; train them (README) or pass --weights DIR", dir.display());
     }
-    Weights::load_dir(dir).with_context(|| format!("cannot load the weights at {}", dir.display()))
+    Weights::load_dir_on(device, dir).with_context(|| format!("cannot load the weights at {}", dir.display()))
+}
+
+/// The compute device `--device` names, with what it is said on stderr when not the CPU.
+pub fn open_device(name: DeviceName) -> anyhow::Result<burn::tensor::Device> {
+    let device = device::open(name)?;
+    if name != DeviceName::Cpu {
+        eprintln!("device: {name} ({})", device::adapter_name(&device).unwrap_or_else(|| "?".into()));
+    }
+    Ok(device)
 }
 
 fn import(path: &Path, map: Option<&skeleton::ManualMap>) -> anyhow::Result<Imported> {
@@ -258,7 +276,7 @@ pub fn run(args: &StylizeArgs) -> anyhow::Result<()> {
     }
     let setting = if args.unsupervised { Setting::Unsupervised } else { Setting::Supervised };
     let dir = args.weights.clone().unwrap_or_else(default_weights_dir);
-    let weights = load_weights(&dir)?;
+    let weights = load_weights_on(&open_device(args.device)?, &dir)?;
     let map = super::read_map(args.map.as_deref())?;
     let style_map = super::read_map(args.style_map.as_deref())?;
     let request = |source| Request {

@@ -2,6 +2,7 @@
 //! [`motion_stylizer::train`].
 
 use clap::{Args, Subcommand};
+use motion_stylizer::model::device::DeviceName;
 use motion_stylizer::train::all::AllOptions;
 use motion_stylizer::train::{self, ProgressMode, SettingChoices, Stage, TrainOptions};
 use std::path::PathBuf;
@@ -86,6 +87,10 @@ struct AllArgs {
     /// When stderr is not a terminal: one progress line every N steps.
     #[arg(long, default_value_t = 100, value_name = "N")]
     log_every: u64,
+    /// Compute device of every stage: cpu (flex), wgpu (cargo feature `wgpu`) or cuda (feature
+    /// `cuda`). The export runs on the CPU.
+    #[arg(long, default_value_t = DeviceName::Cpu, value_name = "cpu|wgpu|cuda")]
+    device: DeviceName,
 }
 
 fn set_threads(threads: Option<usize>) {
@@ -112,6 +117,7 @@ fn run_all(args: AllArgs) -> anyhow::Result<()> {
         eval_every: args.eval_every,
         eval_windows: args.eval_windows,
         log_every: args.log_every,
+        device: args.device,
         progress: ProgressMode::Auto,
         command: std::env::args().collect::<Vec<_>>().join(" "),
     };

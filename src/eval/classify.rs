@@ -42,9 +42,15 @@ impl Judge {
 
     /// From [`save_classifier`](crate::model::weights::save_classifier) bytes, on the CPU.
     pub fn from_bytes(bytes: &[u8], norm: NormStats) -> Result<Judge, ModelError> {
-        let device = Device::flex();
-        let (config, net) = load_classifier(bytes, &device)?;
-        Ok(Judge { config, net, norm, device })
+        Self::from_bytes_on(&Device::flex(), bytes, norm)
+    }
+
+    /// [`Judge::from_bytes`] on a given device. The f16 bundle is read on flex (which casts it to
+    /// f32) and the network then moved: not every device has f16 tensors.
+    pub fn from_bytes_on(device: &Device, bytes: &[u8], norm: NormStats) -> Result<Judge, ModelError> {
+        let (config, net) = load_classifier(bytes, &Device::flex())?;
+        let net = if *device == Device::flex() { net } else { net.to_device(device) };
+        Ok(Judge { config, net, norm, device: device.clone() })
     }
 
     pub fn num_styles(&self) -> usize {

@@ -13,13 +13,14 @@
 //!
 //! Burn 0.22 notes: tensors are `Tensor<D>` (no backend type parameter); the backend is the
 //! runtime [`Device`](burn::tensor::Device) (`Device::flex()`, `Device::ndarray()` with the
-//! `ndarray` feature); `device.autodiff()` makes a training device; `module.valid()` gives the
-//! inference copy (no autodiff, dropout off).
+//! `ndarray` feature; wgpu and CUDA by name through [`device::open`]); `device.autodiff()` makes a
+//! training device; `module.valid()` gives the inference copy (no autodiff, dropout off).
 
 pub mod autoencoder;
 pub mod classifier;
 pub mod config;
 pub mod content;
+pub mod device;
 pub mod generator;
 pub mod init;
 pub mod layers;

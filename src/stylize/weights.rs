@@ -216,9 +216,16 @@ impl Weights {
     }
 
     /// Reads the weights folder `dir` (native builds only): `manifest.json`, the statistics file
-    /// it names, the shared networks' file (format 2), and the file of each setting it lists.
+    /// it names, the shared networks' file (format 2), and the file of each setting it lists; on
+    /// the CPU (`flex`) device.
     #[cfg(not(target_arch = "wasm32"))]
     pub fn load_dir(dir: impl AsRef<std::path::Path>) -> Result<Weights, StylizeError> {
+        Self::load_dir_on(&Device::flex(), dir)
+    }
+
+    /// [`Weights::load_dir`] on a given device (e.g. [`crate::model::device::open`]'s).
+    #[cfg(not(target_arch = "wasm32"))]
+    pub fn load_dir_on(device: &Device, dir: impl AsRef<std::path::Path>) -> Result<Weights, StylizeError> {
         let dir = dir.as_ref();
         let read = |name: &str| {
             let path = dir.join(name);
@@ -239,13 +246,16 @@ impl Weights {
             };
             *slot = Some(read(&entry.file)?);
         }
-        Self::from_files(WeightFiles {
-            manifest: &manifest_json,
-            norm: &norm_json,
-            shared: shared.as_deref(),
-            supervised: supervised.as_deref(),
-            unsupervised: unsupervised.as_deref(),
-        })
+        Self::from_files_on(
+            device,
+            WeightFiles {
+                manifest: &manifest_json,
+                norm: &norm_json,
+                shared: shared.as_deref(),
+                supervised: supervised.as_deref(),
+                unsupervised: unsupervised.as_deref(),
+            },
+        )
     }
 
     /// The settings the manifest lists (loaded or not).

@@ -33,6 +33,7 @@ use super::settings::{SettingChoices, TrainOptions};
 use super::{Stage, rundir};
 use crate::dataset::folder::{self, FolderListing};
 use crate::dataset::{Split, corpus};
+use crate::model::device::DeviceName;
 
 /// Frames per second of imported motion.
 const FPS: f64 = 30.0;
@@ -54,6 +55,8 @@ pub struct AllOptions {
     pub eval_every: u64,
     pub eval_windows: usize,
     pub log_every: u64,
+    /// Every stage's compute device.
+    pub device: DeviceName,
     pub progress: ProgressMode,
     pub command: String,
 }
@@ -281,6 +284,7 @@ pub fn train_all(opts: &AllOptions) -> anyhow::Result<Report> {
             threads: opts.threads,
             split: opts.split.clone(),
             log_every: opts.log_every,
+            device: opts.device,
             progress: opts.progress,
             command: opts.command.clone(),
         };

@@ -25,6 +25,9 @@ pub struct Segment {
     pub step_s: f64,
     pub eval_s: f64,
     pub wall_s: f64,
+    /// The compute device and its adapter when not the CPU (`wgpu (llvmpipe ...)`); absent: flex.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub device: Option<String>,
 }
 
 /// Provenance and timing of a run, updated at every checkpoint.

@@ -64,6 +64,7 @@ pub mod settings;
 pub mod stylizer;
 pub mod trainer;
 
+use crate::model::device::DeviceName;
 use crate::stylize::Setting;
 use anyhow::Context;
 use burn::prelude::*;
@@ -145,6 +146,7 @@ fn summary_from_logs(out: &std::path::Path, step: u64) -> anyhow::Result<TrainSu
 pub fn train(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<TrainSummary> {
     let started = Instant::now();
     opts.validate()?;
+    let device = crate::model::device::open(opts.device)?;
     let mut run = rundir::open(stage, opts)?;
     let start_step = run.start_step();
     if opts.resume && start_step >= opts.steps {
@@ -156,10 +158,16 @@ pub fn train(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<TrainSummary>
             eprintln!("{line}");
         }
     };
-    let device = Device::flex();
+    let device_name = (opts.device != DeviceName::Cpu).then(|| {
+        let adapter = crate::model::device::adapter_name(&device).unwrap_or_else(|| "?".into());
+        format!("{} ({adapter})", opts.device)
+    });
+    if let Some(name) = &device_name {
+        say(format!("device: {name}"));
+    }
     let t_load = Instant::now();
     let data = TrainData::load(opts, &mut run.config, run.norm.take(), &device, &say)?;
-    let log = rundir::begin_segment(opts, &run, &data.norm, t_load.elapsed().as_secs_f64())?;
+    let log = rundir::begin_segment(opts, &run, &data.norm, t_load.elapsed().as_secs_f64(), device_name)?;
     let start = runner::Start { resume_from: run.resume_from.as_ref(), log, started };
 
     let config = &run.config;

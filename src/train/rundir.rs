@@ -445,7 +445,14 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
 
 /// Writes the run folder's fixed files (a new run: `norm.json` and the autoencoder copy; always
 /// `config.json`) and `run.json` with a new segment for this invocation; returns the run log.
-pub fn begin_segment(opts: &TrainOptions, run: &OpenRun, norm: &NormStats, load_s: f64) -> anyhow::Result<RunLog> {
+/// `device`: the compute device when not the CPU (see [`super::logs::Segment::device`]).
+pub fn begin_segment(
+    opts: &TrainOptions,
+    run: &OpenRun,
+    norm: &NormStats,
+    load_s: f64,
+    device: Option<String>,
+) -> anyhow::Result<RunLog> {
     let out = &opts.out;
     let start_step = run.start_step();
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
@@ -477,6 +484,7 @@ pub fn begin_segment(opts: &TrainOptions, run: &OpenRun, norm: &NormStats, load_
         step_s: 0.0,
         eval_s: 0.0,
         wall_s: 0.0,
+        device,
     });
     write_json(&out.join(RUN_LOG), &log)?;
     Ok(log)

@@ -10,6 +10,7 @@ use std::path::PathBuf;
 use super::losses::StylizerWeights;
 use super::progress::ProgressMode;
 use crate::model::config::FRAME_MULTIPLE;
+use crate::model::device::DeviceName;
 
 /// Default training window, frames. Bandai takes are short (set 2's median is 117 frames); at 64
 /// frames 84 % of all takes contribute and 48 % are long enough for two disjoint windows.
@@ -143,6 +144,10 @@ pub struct TrainOptions {
     /// is set) [default: all cores].
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
+    /// Compute device: cpu (flex), wgpu (cargo feature `wgpu`) or cuda (feature `cuda`). Not a
+    /// setting of the run: a resumed run may continue on another device.
+    #[arg(long, default_value_t = DeviceName::Cpu, value_name = "cpu|wgpu|cuda")]
+    pub device: DeviceName,
     /// Held-out split file (new runs; a resumed run uses its own).
     #[arg(long, default_value = DEFAULT_SPLIT, value_name = "FILE")]
     pub split: PathBuf,
