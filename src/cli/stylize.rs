@@ -50,7 +50,7 @@ pub struct StylizeArgs {
     strength: f32,
     /// Style guidance, 0-3: how much further the output goes along the difference between the
     /// style's and the neutral style's (`normal`) outputs for this content; 0 is the networks'
-    /// output as trained (see the README's "Strength and guidance").
+    /// output as trained (README and EVALUATION.md, "Guidance").
     #[arg(long, default_value_t = stylize::DEFAULT_GUIDANCE, value_name = "G")]
     guidance: f32,
     /// Write the output on the canonical 21-joint rig instead of the content's own rig.
