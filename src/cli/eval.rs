@@ -66,8 +66,8 @@ pub struct EvalArgs {
     /// Temperature of the prior draws (see `stylize --temperature`).
     #[arg(long, default_value_t = motion_stylizer::stylize::DEFAULT_TEMPERATURE, value_name = "T")]
     temperature: f32,
-    /// Compute device of the stylizers and classifiers: cpu (flex), wgpu (cargo feature `wgpu`)
-    /// or cuda (feature `cuda`).
+    /// Compute device of the stylizers and classifiers: cpu (flex) or wgpu (cargo feature `wgpu`;
+    /// cuda is not built, see `src/model/device.rs`).
     #[arg(long, default_value_t = DeviceName::Cpu, value_name = "cpu|wgpu|cuda")]
     device: DeviceName,
 }

@@ -81,7 +81,8 @@ pub struct StylizeArgs {
     /// The format of a batch's outputs (a single output's comes from its extension).
     #[arg(long, value_enum, default_value_t = BatchFormat::Bvh)]
     format: BatchFormat,
-    /// Compute device: cpu (flex), wgpu (cargo feature `wgpu`) or cuda (feature `cuda`).
+    /// Compute device: cpu (flex) or wgpu (cargo feature `wgpu`; cuda is not built, see
+    /// `src/model/device.rs`).
     #[arg(long, default_value_t = DeviceName::Cpu, value_name = "cpu|wgpu|cuda")]
     device: DeviceName,
 }

@@ -87,8 +87,8 @@ struct AllArgs {
     /// When stderr is not a terminal: one progress line every N steps.
     #[arg(long, default_value_t = 100, value_name = "N")]
     log_every: u64,
-    /// Compute device of every stage: cpu (flex), wgpu (cargo feature `wgpu`) or cuda (feature
-    /// `cuda`). The export runs on the CPU.
+    /// Compute device of every stage: cpu (flex) or wgpu (cargo feature `wgpu`; cuda is not
+    /// built, see `src/model/device.rs`). The export runs on the CPU.
     #[arg(long, default_value_t = DeviceName::Cpu, value_name = "cpu|wgpu|cuda")]
     device: DeviceName,
 }

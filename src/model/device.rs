@@ -3,9 +3,11 @@
 //!
 //! `cpu` is Burn's flex backend (always built; what every result of this project was computed
 //! on). `wgpu` is Burn's wgpu runtime on the best adapter it finds (Vulkan natively; Mesa's
-//! lavapipe on a machine without a GPU), built with the cargo feature `wgpu`. `cuda` is Burn's
-//! CUDA runtime on GPU 0, built with the feature `cuda`. A device this build lacks, or one that
-//! does not come up, is a [`DeviceError`], not a panic.
+//! lavapipe on a machine without a GPU), built with the cargo feature `wgpu`. `cuda` is named but
+//! never built: Burn's CUDA backend downloads a prebuilt LLVM while it builds (cubecl-cuda's
+//! `tracel-llvm-bundler`), which this project's build machines cannot; wgpu reaches NVIDIA GPUs
+//! through their Vulkan driver. A device this build lacks, or one that does not come up, is a
+//! [`DeviceError`], not a panic.
 
 use burn::prelude::*;
 
@@ -17,7 +19,7 @@ pub enum DeviceName {
     Cpu,
     /// Burn's wgpu runtime (feature `wgpu`).
     Wgpu,
-    /// Burn's CUDA runtime (feature `cuda`).
+    /// Burn's CUDA runtime: not built (see the module docs); an error saying so.
     Cuda,
 }
 
@@ -32,12 +34,11 @@ impl DeviceName {
         }
     }
 
-    /// The cargo feature that builds the device in (`None`: always built).
+    /// The cargo feature that builds the device in (`None`: always built, or never).
     pub fn feature(self) -> Option<&'static str> {
         match self {
-            DeviceName::Cpu => None,
             DeviceName::Wgpu => Some("wgpu"),
-            DeviceName::Cuda => Some("cuda"),
+            DeviceName::Cpu | DeviceName::Cuda => None,
         }
     }
 
@@ -46,7 +47,7 @@ impl DeviceName {
         match self {
             DeviceName::Cpu => true,
             DeviceName::Wgpu => cfg!(all(feature = "wgpu", not(target_arch = "wasm32"))),
-            DeviceName::Cuda => cfg!(all(feature = "cuda", not(target_arch = "wasm32"))),
+            DeviceName::Cuda => false,
         }
     }
 }
@@ -80,6 +81,12 @@ pub enum DeviceError {
     NotCompiled { name: DeviceName, feature: &'static str },
     #[error("the {name} device did not come up: {message}")]
     Unavailable { name: DeviceName, message: String },
+    #[error(
+        "no build of this project has the cuda device (Burn's CUDA backend downloads a prebuilt LLVM \
+         while it builds); on an NVIDIA GPU use --device wgpu (built with --features wgpu), which \
+         runs on its Vulkan driver"
+    )]
+    CudaNotBuilt,
 }
 
 /// The device `name` (inference: no autodiff; training calls `.autodiff()` on it), brought up and
@@ -89,13 +96,13 @@ pub fn open(name: DeviceName) -> Result<Device, DeviceError> {
     match name {
         DeviceName::Cpu => Ok(Device::flex()),
         DeviceName::Wgpu => wgpu(),
-        DeviceName::Cuda => cuda(),
+        DeviceName::Cuda => Err(DeviceError::CudaNotBuilt),
     }
 }
 
 /// The adapter's name as the runtime reports it (`None` on flex, or where the backend says none).
 pub fn adapter_name(device: &Device) -> Option<String> {
-    #[cfg(all(any(feature = "wgpu", feature = "cuda"), not(target_arch = "wasm32")))]
+    #[cfg(all(feature = "wgpu", not(target_arch = "wasm32")))]
     {
         return device.identity().map(|id| id.name);
     }
@@ -125,26 +132,9 @@ fn wgpu() -> Result<Device, DeviceError> {
     Err(DeviceError::NotCompiled { name: DeviceName::Wgpu, feature: "wgpu" })
 }
 
-#[cfg(all(feature = "cuda", not(target_arch = "wasm32")))]
-fn cuda() -> Result<Device, DeviceError> {
-    static CUDA: std::sync::OnceLock<Result<Device, DeviceError>> = std::sync::OnceLock::new();
-    CUDA.get_or_init(|| {
-        // Burn's CUDA device is lazy: it comes up (or panics: no driver) on first use.
-        let device = Device::cuda(0);
-        probe(&device).map_err(|message| DeviceError::Unavailable { name: DeviceName::Cuda, message })?;
-        Ok(device)
-    })
-    .clone()
-}
-
-#[cfg(not(all(feature = "cuda", not(target_arch = "wasm32"))))]
-fn cuda() -> Result<Device, DeviceError> {
-    Err(DeviceError::NotCompiled { name: DeviceName::Cuda, feature: "cuda" })
-}
-
 /// A small matrix product on `device`, read back and checked, with the runtime's panics (no
 /// driver, no adapter, a shader it cannot compile) turned into the error.
-#[cfg(all(any(feature = "wgpu", feature = "cuda"), not(target_arch = "wasm32")))]
+#[cfg(all(feature = "wgpu", not(target_arch = "wasm32")))]
 fn probe(device: &Device) -> Result<(), String> {
     let values = guarded(|| {
         let a = Tensor::<2>::from_data(burn::tensor::TensorData::new(vec![1f32, 2., 3., 4.], [2, 2]), device);
@@ -158,7 +148,7 @@ fn probe(device: &Device) -> Result<(), String> {
 }
 
 /// `f()`, a panic in it returned as its message (the runtimes panic where a driver is missing).
-#[cfg(all(any(feature = "wgpu", feature = "cuda"), not(target_arch = "wasm32")))]
+#[cfg(all(feature = "wgpu", not(target_arch = "wasm32")))]
 fn guarded<T>(f: impl FnOnce() -> T) -> Result<T, String> {
     std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).map_err(|panic| {
         panic
@@ -185,12 +175,13 @@ mod tests {
     #[test]
     fn cpu_is_flex_and_missing_backends_name_their_feature() {
         assert_eq!(open(DeviceName::Cpu).unwrap(), Device::flex());
-        for d in [DeviceName::Wgpu, DeviceName::Cuda] {
-            if !d.compiled() {
-                let e = open(d).unwrap_err();
-                assert_eq!(e, DeviceError::NotCompiled { name: d, feature: d.feature().unwrap() });
-                assert!(e.to_string().contains(&format!("--features {}", d.as_str())), "{e}");
-            }
+        if !DeviceName::Wgpu.compiled() {
+            let e = open(DeviceName::Wgpu).unwrap_err();
+            assert_eq!(e, DeviceError::NotCompiled { name: DeviceName::Wgpu, feature: "wgpu" });
+            assert!(e.to_string().contains("--features wgpu"), "{e}");
         }
+        let e = open(DeviceName::Cuda).unwrap_err();
+        assert_eq!(e, DeviceError::CudaNotBuilt);
+        assert!(e.to_string().contains("--device wgpu"), "{e}");
     }
 }

@@ -144,8 +144,8 @@ pub struct TrainOptions {
     /// is set) [default: all cores].
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
-    /// Compute device: cpu (flex), wgpu (cargo feature `wgpu`) or cuda (feature `cuda`). Not a
-    /// setting of the run: a resumed run may continue on another device.
+    /// Compute device: cpu (flex) or wgpu (cargo feature `wgpu`; cuda is not built, see
+    /// `src/model/device.rs`). Not a setting of the run: a resumed run may continue on another.
     #[arg(long, default_value_t = DeviceName::Cpu, value_name = "cpu|wgpu|cuda")]
     pub device: DeviceName,
     /// Held-out split file (new runs; a resumed run uses its own).
