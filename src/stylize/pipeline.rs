@@ -327,25 +327,23 @@ pub fn stylize(weights: &Weights, content: &Motion, request: &Request<'_>) -> Re
         let rows = per_batch.min(n - start);
         let code = codes.code.clone().narrow(0, start, rows);
         let label = codes.label.as_ref().map(|l| l.clone().narrow(0, start, rows));
-        let latent = model.generate_with(content_code.clone().repeat_dim(0, rows), code, label)?;
+        // The content's code and latent, one row per sample of this batch (the latent is what
+        // guidance and strength measure the style against).
+        let content_rows = content_code.clone().repeat_dim(0, rows);
+        let own = content_latent.clone().repeat_dim(0, rows);
+        let latent = model.generate_with(content_rows.clone(), code, label)?;
         let latent = match &neutral {
             Some(n) => {
                 let code = n.code.clone().narrow(0, start, rows);
                 let label = n.label.as_ref().map(|l| l.clone().narrow(0, start, rows));
-                let base = model.generate_with(content_code.clone().repeat_dim(0, rows), code, label)?;
+                let base = model.generate_with(content_rows, code, label)?;
                 // G_s + g·((G_s − G_n) + c·(z_c − G_n)), c = GUIDANCE_CONTENT.
-                let own = content_latent.clone().repeat_dim(0, rows);
-                let direction = (latent.clone() - base.clone()) + (own - base) * GUIDANCE_CONTENT;
+                let direction = (latent.clone() - base.clone()) + (own.clone() - base) * GUIDANCE_CONTENT;
                 latent + direction * guidance
             }
             None => latent,
         };
-        let latent = if strength == 1.0 {
-            latent
-        } else {
-            let own = content_latent.clone().repeat_dim(0, rows);
-            own.clone() + (latent - own) * strength
-        };
+        let latent = if strength == 1.0 { latent } else { own.clone() + (latent - own) * strength };
         let features = model.with_root(model.decode(latent)?, angular.clone().repeat_dim(0, rows))?;
         let values = read_back(features)?;
         for sample in values.chunks_exact(DIM * padded) {
