@@ -1,42 +1,17 @@
 //! The reader's memory is bounded by the input size, not by what the header claims. A test binary of
-//! its own, with a counting allocator, so that no other test's allocations get counted.
+//! its own, with the counting allocator of `alloc_support`, so that no other binary's tests get
+//! counted; its tests measure one at a time.
 use motion_stylizer::bvh::{Bvh, BvhError};
-use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::Path;
-use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
-
-struct Counting;
-static LIVE: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let p = unsafe { System.alloc(layout) };
-        if !p.is_null() {
-            let live = LIVE.fetch_add(layout.size(), Relaxed) + layout.size();
-            PEAK.fetch_max(live, Relaxed);
-        }
-        p
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) };
-        LIVE.fetch_sub(layout.size(), Relaxed);
-    }
-}
+mod alloc_support;
+use alloc_support::{Counting, alone, peak_during};
 
 #[global_allocator]
 static ALLOC: Counting = Counting;
 
-/// Bytes allocated at the peak of `f`, above what was live before it.
-fn peak_during<T>(f: impl FnOnce() -> T) -> (T, usize) {
-    let before = LIVE.load(Relaxed);
-    PEAK.store(before, Relaxed);
-    let out = f();
-    (out, PEAK.load(Relaxed) - before)
-}
-
 #[test]
 fn allocation_is_bounded_by_the_input() {
+    let _alone = alone();
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/bandai/dataset-1_walk_tired_001_f90.bvh");
     let text = std::fs::read_to_string(path).unwrap();
     // A well-formed file: the values (90 × 132 f64 = 95 KB) plus the hierarchy.

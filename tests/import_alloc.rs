@@ -1,39 +1,13 @@
 //! The importer's memory is bounded by its input (issue 15, point 6): the resampled length is decided
 //! from the header, and no file under 1 MB makes the import hold more than ~100 MB. A test binary of
-//! its own, with a counting allocator, so that no other test's allocations get counted.
+//! its own, with the counting allocator of `alloc_support`, so that no other binary's tests get
+//! counted; its tests measure one at a time.
 use motion_stylizer::skeleton::{ImportError, import_bvh};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
-
-struct Counting;
-static LIVE: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let p = unsafe { System.alloc(layout) };
-        if !p.is_null() {
-            let live = LIVE.fetch_add(layout.size(), Relaxed) + layout.size();
-            PEAK.fetch_max(live, Relaxed);
-        }
-        p
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) };
-        LIVE.fetch_sub(layout.size(), Relaxed);
-    }
-}
+mod alloc_support;
+use alloc_support::{Counting, alone, peak_during};
 
 #[global_allocator]
 static ALLOC: Counting = Counting;
-
-/// Bytes allocated at the peak of `f`, above what was live before it.
-fn peak_during<T>(f: impl FnOnce() -> T) -> (T, usize) {
-    let before = LIVE.load(Relaxed);
-    PEAK.store(before, Relaxed);
-    let out = f();
-    (out, PEAK.load(Relaxed) - before)
-}
 
 const MB: usize = 1 << 20;
 
@@ -60,6 +34,7 @@ fn m21_with(frames: usize, frame_time: f64, max_bytes: usize) -> String {
 /// The issue's file: two frames, `Frame Time: 16000` (480,001 frames at 30 fps).
 #[test]
 fn a_sparse_clip_is_refused_before_allocating() {
+    let _alone = alone();
     let text = m21_with(2, 16000.0, 4096);
     let h = motion_stylizer::bvh::Bvh::parse_header(&text).unwrap();
     assert_eq!((h.joints, h.channels, h.frames, h.frame_time), (21, 66, 2, 16000.0));
@@ -77,6 +52,7 @@ fn a_sparse_clip_is_refused_before_allocating() {
 /// A million frames of a rig without channels: a few hundred bytes of text.
 #[test]
 fn frames_without_data_are_refused() {
+    let _alone = alone();
     let text = "HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\nCHANNELS 0\n}\nMOTION\nFrames: 1000000\nFrame Time: 0.0333333\n";
     let (r, peak) = peak_during(|| import_bvh(text));
     assert!(matches!(r, Err(ImportError::OverBudget { frames: 1_000_000, channels: 0, .. })), "{:?}", r.err());
@@ -87,6 +63,7 @@ fn frames_without_data_are_refused() {
 /// import, within 100 MB.
 #[test]
 fn files_under_a_megabyte_import_within_100_mb() {
+    let _alone = alone();
     let one = m21_with(1, 1.0 / 30.0, MB);
     let row_bytes = one.lines().last().unwrap().len() + 1;
     let frames = (MB - one.len()) / row_bytes;
