@@ -106,15 +106,18 @@ fn main() -> BoxResult<()> {
 
     let t = Instant::now();
     let read = |name: &str| std::fs::read(dir.join(name));
-    // Format 2: the shared networks' file beside the supervised stylizer's (format 1: none).
+    // Formats 2 and 3: the shared networks' file beside the supervised stylizer's (format 1:
+    // none); format 3: the style encoder in a file of its own.
     let shared = read("shared.bin").ok();
+    let supervised_style = read("supervised-style.bin").ok();
     let (manifest, norm, supervised) = (read("manifest.json")?, read("norm.json")?, read("supervised.bin")?);
     let weights = Weights::from_files(WeightFiles {
         manifest: &manifest,
         norm: &norm,
         shared: shared.as_deref(),
         supervised: Some(&supervised),
-        unsupervised: None,
+        supervised_style: supervised_style.as_deref(),
+        ..Default::default()
     })?;
     let load_ms = t.elapsed().as_secs_f64() * 1e3;
     let s = weights.model(Setting::Supervised)?;

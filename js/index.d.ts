@@ -31,10 +31,16 @@ export type Bytes = Uint8Array | ArrayBuffer | ArrayBufferView;
 export interface WeightFiles {
   manifest: Bytes | string;
   norm: Bytes | string;
-  /** The networks both stylizers share (shared.bin; manifest format 2). */
+  /** The networks both stylizers share (shared.bin; manifest formats 2 and 3). */
   shared?: Bytes;
   supervised?: Bytes;
   unsupervised?: Bytes;
+  /**
+   * Format 3: a setting's style encoder (supervised-style.bin, unsupervised-style.bin), needed
+   * only for reference motions; without it such a request fails with STYLE_ENCODER_UNAVAILABLE.
+   */
+  supervisedStyle?: Bytes;
+  unsupervisedStyle?: Bytes;
 }
 
 /** Bytes of the weights fetched (or read) so far, of `total`. */
@@ -48,6 +54,8 @@ export interface LoadProgress {
   total: number;
   /** The model this download is for: the first one at load, another when it is first used. */
   setting?: 'supervised' | 'unsupervised';
+  /** Set on the download of a model's style encoder (format 3: fetched when a reference motion is first used). */
+  styleEncoder?: boolean;
 }
 
 export interface LoadOptions {
@@ -270,8 +278,11 @@ export class Stylizer {
   /** What the importer makes of BVH text, also when it cannot import it (`motion-stylizer inspect --json`). */
   inspectBvh(text: string, options?: { map?: JointMap }): Inspection;
   stylize(content: Motion | string, options: StylizeOptions): Promise<StylizedMotion[]>;
-  /** The supervised model's style label for a reference (the one it reconstructs the motion best under). */
-  inferLabel(reference: Motion | string): string;
+  /**
+   * The supervised model's style label for a reference (the one it reconstructs the motion best
+   * under). Async: the style encoder may be fetched first (format-3 weights).
+   */
+  inferLabel(reference: Motion | string): Promise<string>;
   /** Releases the engine's memory now rather than when garbage-collected (a later call loads the kept weights again). */
   free(): void;
 }

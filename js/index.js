@@ -253,7 +253,7 @@ function fingerprint(...parts) {
 
 const SETTINGS = ['supervised', 'unsupervised'];
 
-/** The engine's list of a manifest's files: {format, norm, shared, models: [{setting, file, bytes}]}. */
+/** The engine's list of a manifest's files: {format, norm, shared, models: [{setting, file, bytes, style_encoder}]}. */
 function fileList(manifest) {
   return JSON.parse(guard(() => wasm.weightFileList(manifest)));
 }
@@ -527,7 +527,7 @@ export class Stylizer {
   #source;
   /** The settings this Stylizer may use (the manifest's, limited by the `settings` option). */
   #allowed;
-  /** Downloads in flight, by setting. */
+  /** Downloads in flight, by setting (and `${setting}Style` for style encoders). */
   #pending = new Map();
 
   /** @internal */
@@ -558,6 +558,7 @@ export class Stylizer {
       const engine = guard(() => new wasm.Engine(f.manifest, f.norm, f.shared, first === 'supervised' ? f.supervised : undefined, first === 'unsupervised' ? f.unsupervised : undefined, this.#engineBackend));
       try {
         for (const s of others) guard(() => engine.addSetting(s, f[s]));
+        for (const s of SETTINGS) if (f[s] != null && f[`${s}Style`] != null) guard(() => engine.addStyleEncoder(s, f[`${s}Style`]));
       } catch (e) {
         engine.free();
         throw e;
@@ -578,30 +579,66 @@ export class Stylizer {
     if (this.#files[setting] != null || !this.#allowed.includes(setting)) return;
     const entry = this.#source?.list.models.find((m) => m.setting === setting);
     if (!entry) return;
-    if (!this.#pending.has(setting)) {
+    await this.#fetchOnce(setting, entry, setting, (bytes) => this.#live().addSetting(setting, bytes));
+  }
+
+  /**
+   * Makes the style encoder of `setting` usable (format 3 keeps it in a file of its own, needed
+   * only for reference motions): a no-op where the engine has it; otherwise its file is fetched
+   * once (reported to onProgress with `setting` and `styleEncoder: true`) and added.
+   */
+  async #ensureStyleEncoder(setting) {
+    await this.#ensure(setting);
+    const key = `${setting}Style`;
+    if (this.#files[key] != null || this.#files[setting] == null) return;
+    if (guard(() => this.#live().hasStyleEncoder(setting))) return;
+    const entry = this.#source?.list.models.find((m) => m.setting === setting)?.style_encoder;
+    if (!entry) return;
+    await this.#fetchOnce(key, entry, setting, (bytes) => this.#live().addStyleEncoder(setting, bytes), { styleEncoder: true });
+  }
+
+  /** Fetches `entry` once however many calls wait for it, hands it to `add`, and keeps it as #files[key]. */
+  async #fetchOnce(key, entry, setting, add, extra = {}) {
+    if (!this.#pending.has(key)) {
       const { folder, onProgress } = this.#source;
-      const add = async () => {
-        const [bytes] = await readAll(folder, [entry], onProgress, { setting });
-        guard(() => this.#live().addSetting(setting, bytes));
-        this.#files = { ...this.#files, [setting]: bytes };
+      const fetchAndAdd = async () => {
+        const [bytes] = await readAll(folder, [entry], onProgress, { setting, ...extra });
+        guard(() => add(bytes));
+        this.#files = { ...this.#files, [key]: bytes };
       };
       // Cached bytes the engine refuses (a damaged cache): dropped and fetched again, once.
-      const job = add().catch(async (e) => {
+      const job = fetchAndAdd().catch(async (e) => {
         if (e.code !== 'BAD_WEIGHTS' || !folder.fromCache || !(await folder.forget())) throw e;
-        return add();
+        return fetchAndAdd();
       });
-      this.#pending.set(setting, job);
-      job.catch(() => {}).finally(() => this.#pending.delete(setting));
+      this.#pending.set(key, job);
+      job.catch(() => {}).finally(() => this.#pending.delete(key));
     }
-    await this.#pending.get(setting);
+    await this.#pending.get(key);
+  }
+
+  /**
+   * `run()` (a synchronous call of the engine), after fetching the style encoder of `setting`
+   * when the engine says it needs it (STYLE_ENCODER_UNAVAILABLE: a reference motion, or a label
+   * to infer, with format-3 weights whose style encoder is not loaded yet).
+   */
+  async #withStyleEncoder(setting, run) {
+    try {
+      return run();
+    } catch (e) {
+      if (e.code !== 'STYLE_ENCODER_UNAVAILABLE' || this.#source == null) throw e;
+      await this.#ensureStyleEncoder(setting);
+      return run();
+    }
   }
 
   /**
    * Initialises the wasm module and loads weights: the package's own (default), a folder URL,
-   * the files' bytes {manifest, norm, shared?, supervised?, unsupervised?}, or another Stylizer's
-   * (no fetch). From a folder only the statistics, the shared networks and the first of
-   * `settings` (default ['supervised', 'unsupervised']) are fetched now; another setting is
-   * fetched when it is first used. In a browser the files are kept in the Cache API (a cache
+   * the files' bytes {manifest, norm, shared?, supervised?, unsupervised?, supervisedStyle?,
+   * unsupervisedStyle?}, or another Stylizer's (no fetch). From a folder only the statistics, the
+   * shared networks and the first of `settings` (default ['supervised', 'unsupervised']) are
+   * fetched now; another setting is fetched when it is first used, and (format 3) a setting's
+   * style encoder when a reference motion is first used with it. In a browser the files are kept in the Cache API (a cache
    * named by the manifest's fingerprint): a second visit fetches nothing.
    * onProgress({loaded, total, setting}): bytes of the weights as they are fetched or read.
    */
@@ -648,6 +685,7 @@ export class Stylizer {
       supervised: pick('supervised'),
       unsupervised: pick('unsupervised'),
     };
+    for (const s of SETTINGS) if (bytes[s] != null && given[`${s}Style`] != null) bytes[`${s}Style`] = toBytes(given[`${s}Style`], `${s}Style`);
     let stylizer;
     try {
       stylizer = new Stylizer(bytes, engineBackend, fallbackReason, source, settings);
@@ -734,7 +772,15 @@ export class Stylizer {
     if (guidance !== undefined && typeof guidance !== 'number') {
       throw codedError('BAD_REQUEST', 'guidance must be a number in [0, 3]');
     }
-    if (options.parts != null) return this.#stylizeParts(motion, options, { unsupervised, samples, seed, canonical: rig === 'canonical', temperature, strength, guidance });
+    const request = { unsupervised, samples, seed, canonical: rig === 'canonical', temperature, strength, guidance };
+    const setting = unsupervised ? 'unsupervised' : 'supervised';
+    if (options.parts != null) return this.#withStyleEncoder(setting, () => this.#stylizeParts(motion, options, request));
+    return this.#withStyleEncoder(setting, () => this.#stylizeNow(motion, options, request));
+  }
+
+  /** stylize's synchronous part: one style source. */
+  #stylizeNow(motion, options, request) {
+    const { unsupervised } = request;
     // Supervised motion-based without a label: the reference's label is inferred and reported.
     let inferredLabel;
     [options, inferredLabel] = this.#withInferredLabel(options, unsupervised);
@@ -742,7 +788,6 @@ export class Stylizer {
     const made = generation;
     const spec = styleSpec(this, options, 0);
     try {
-      const request = { unsupervised, samples, seed, canonical: rig === 'canonical', temperature, strength, guidance };
       const outputs = guard(() => engine.stylize(motion, spec, request).map((o) => new StylizedMotion(o)));
       if (inferredLabel !== undefined) for (const o of outputs) o.inferredLabel = inferredLabel;
       return outputs;
@@ -756,7 +801,7 @@ export class Stylizer {
     if (source.styleMotion == null || unsupervised || source.label != null || source.mix != null) return [source, undefined];
     // Imported once (BVH text is not parsed again for the style).
     const reference = this.asMotion(source.styleMotion, 'styleMotion');
-    const label = this.inferLabel(reference);
+    const label = this.#inferLabelNow(reference);
     return [{ ...source, styleMotion: reference, label }, label];
   }
 
@@ -798,12 +843,19 @@ export class Stylizer {
   /**
    * The supervised model's style label for a reference motion (a Motion or BVH text): the label
    * under which it reconstructs the motion best. `stylize({ styleMotion })` without a label uses it
-   * and sets `inferredLabel` on each result.
+   * and sets `inferredLabel` on each result. Async: with format-3 weights the supervised style
+   * encoder is fetched when first needed.
    */
-  inferLabel(reference) {
+  async inferLabel(reference) {
+    const motion = this.asMotion(reference, 'reference');
+    await this.#ensure('supervised');
+    return this.#withStyleEncoder('supervised', () => this.#inferLabelNow(motion));
+  }
+
+  /** inferLabel's synchronous part (STYLE_ENCODER_UNAVAILABLE where the style encoder is not loaded). */
+  #inferLabelNow(reference) {
     const motion = engineMotion(this.asMotion(reference, 'reference'));
-    const engine = this.#live();
-    return guard(() => engine.inferLabel(motion));
+    return guard(() => this.#live().inferLabel(motion));
   }
 
   /** Releases the engine's memory now rather than when garbage-collected (a later call loads the kept weights again). */

@@ -18,6 +18,8 @@ const NORM: &[u8] = include_bytes!("../assets/weights/norm.json");
 const SHARED: &[u8] = include_bytes!("../assets/weights/shared.bin");
 const SUPERVISED: &[u8] = include_bytes!("../assets/weights/supervised.bin");
 const UNSUPERVISED: &[u8] = include_bytes!("../assets/weights/unsupervised.bin");
+const SUPERVISED_STYLE: &[u8] = include_bytes!("../assets/weights/supervised-style.bin");
+const UNSUPERVISED_STYLE: &[u8] = include_bytes!("../assets/weights/unsupervised-style.bin");
 
 /// Foreign-rig fixtures and the rig the importer must detect.
 const FOREIGN: &[(&str, &str)] = &[
@@ -31,8 +33,18 @@ const REFERENCE: &str = include_str!("fixtures/bandai/dataset-2_walk_elderly_001
 const SMALL: &str = include_str!("fixtures/small.bvh");
 
 thread_local! {
-    static ENGINE: Engine = Engine::new(MANIFEST, NORM, Some(SHARED.to_vec()), Some(SUPERVISED.to_vec()), Some(UNSUPERVISED.to_vec()), "cpu")
-        .unwrap_or_else(|e| panic!("shipped weights: {}", message(&e)));
+    static ENGINE: Engine = full_engine();
+}
+
+/// The shipped weights with both models and their style encoders.
+fn full_engine() -> Engine {
+    let mut engine =
+        Engine::new(MANIFEST, NORM, Some(SHARED.to_vec()), Some(SUPERVISED.to_vec()), Some(UNSUPERVISED.to_vec()), "cpu")
+            .unwrap_or_else(|e| panic!("shipped weights: {}", message(&e)));
+    for (setting, bytes) in [("supervised", SUPERVISED_STYLE), ("unsupervised", UNSUPERVISED_STYLE)] {
+        engine.add_style_encoder(setting, bytes).unwrap_or_else(|e| panic!("{setting} style encoder: {}", message(&e)));
+    }
+    engine
 }
 
 fn prop(e: &JsValue, key: &str) -> JsValue {
@@ -393,12 +405,30 @@ fn weights_that_cannot_be_used_give_bad_weights() {
         e.stylize(&content, &StyleSpec::prior(), options(true, 1.0, JsValue::UNDEFINED, false, None)).unwrap()
     });
     assert_eq!(lazy[0].to_bvh(), eager[0].to_bvh(), "a model added later gives the same bytes");
+    // Format 3: label- and prior-based run without the style encoders; a reference motion needs
+    // its setting's, which can be added later (the other's file, or damaged bytes, refused).
+    let reference = import(REFERENCE);
+    let by_motion = |e: &Engine| {
+        e.stylize(&content, &StyleSpec::motion(&reference, None), options(true, 1.0, JsValue::UNDEFINED, false, None))
+    };
+    assert!(!only.has_style_encoder("unsupervised"));
+    assert_eq!(err_code(by_motion(&only)), "STYLE_ENCODER_UNAVAILABLE");
+    assert_eq!(err_code(only.add_style_encoder("unsupervised", SUPERVISED_STYLE)), "BAD_WEIGHTS");
+    assert_eq!(err_code(only.add_style_encoder("unsupervised", UNSUPERVISED)), "BAD_WEIGHTS");
+    assert!(!only.has_style_encoder("unsupervised"));
+    only.add_style_encoder("unsupervised", UNSUPERVISED_STYLE).unwrap();
+    assert!(only.has_style_encoder("unsupervised") && !only.has_style_encoder("supervised"));
+    let lazy = by_motion(&only).unwrap();
+    let eager = ENGINE.with(|e| by_motion(e).unwrap());
+    assert_eq!(lazy[0].to_bvh(), eager[0].to_bvh(), "a style encoder added later gives the same bytes");
     // The engine's manifest reader: the files to fetch.
     let list: serde_json::Value =
         serde_json::from_str(&motion_stylizer::wasm::weight_file_list(MANIFEST).unwrap()).unwrap();
     assert_eq!(list["shared"]["file"], "shared.bin");
     assert_eq!(list["shared"]["bytes"], SHARED.len());
     assert_eq!(list["models"][1]["setting"], "unsupervised");
+    assert_eq!(list["models"][1]["style_encoder"]["file"], "unsupervised-style.bin");
+    assert_eq!(list["models"][1]["style_encoder"]["bytes"], UNSUPERVISED_STYLE.len());
     assert_eq!(list["norm"]["bytes"], NORM.len());
     assert_eq!(err_code(motion_stylizer::wasm::weight_file_list(b"{}")), "BAD_WEIGHTS");
 }

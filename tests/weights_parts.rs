@@ -1,6 +1,7 @@
-//! Weights folder format 2 (issue 17): one shared file (autoencoder + regressor) and one stylizer
-//! file per setting, each tensor in f16 or integers with scales; the manifest lists every file's
-//! size and fingerprint. Format 1 folders (a whole bundle per setting) are still read.
+//! Weights folder formats 2 and 3 (issue 17): one shared file (autoencoder + regressor) and per
+//! setting a stylizer file (format 3: content encoder + generator) and, format 3, its style
+//! encoder's file apart; each tensor in f16 or integers with scales; the manifest lists every
+//! file's size and fingerprint. Format 1 folders (a whole bundle per setting) are still read.
 
 mod stylize_support;
 
@@ -50,6 +51,13 @@ fn read(dir: &Path, name: &str) -> Vec<u8> {
     std::fs::read(dir.join(name)).unwrap()
 }
 
+/// The label-based result of the walk, as BVH text.
+fn label_output(w: &Weights) -> String {
+    let content = import("bandai", WALK).motion;
+    let request = Request::new(StyleSource::Label(w.style("old").unwrap())).with_seed(7);
+    stylize::stylize(w, &content, &request).unwrap()[0].to_bvh().to_bvh_string()
+}
+
 /// One label-based and one prior-based (unsupervised) result of the walk, as BVH text.
 fn outputs(w: &Weights) -> Vec<String> {
     let content = import("bandai", WALK).motion;
@@ -75,54 +83,131 @@ fn f16_repack_shares_one_autoencoder_and_stylizes_exactly_as_format_1() {
     let old = format1_dir();
     let new = out_dir("parts-f16");
     let manifest = repack(&old, &new, Encodings::default()).unwrap();
-    assert_eq!(manifest.format, 2);
+    assert_eq!(manifest.format, 3);
     let shared = manifest.shared.as_ref().unwrap();
     assert_eq!(shared.file.file, "shared.bin");
     assert_eq!(shared.holds, ["autoencoder", "regressor"]);
-    for name in ["shared.bin", "supervised.bin", "unsupervised.bin", "norm.json", "manifest.json"] {
+    const FILES: [&str; 7] = [
+        "shared.bin",
+        "supervised.bin",
+        "supervised-style.bin",
+        "unsupervised.bin",
+        "unsupervised-style.bin",
+        "norm.json",
+        "manifest.json",
+    ];
+    for name in FILES {
         assert!(new.join(name).is_file(), "{name}");
     }
-    // The shared networks are in one file only: the two stylizer files together are smaller than
+    // The shared networks are in one file only: the stylizers' files together are smaller than
     // the two format-1 bundles by about one autoencoder + regressor each.
     let size = |d: &Path, n: &str| std::fs::metadata(d.join(n)).unwrap().len();
     let old_total = size(&old, "supervised.bin") + size(&old, "unsupervised.bin");
-    let new_total = size(&new, "shared.bin") + size(&new, "supervised.bin") + size(&new, "unsupervised.bin");
+    let new_total: u64 = FILES[..5].iter().map(|n| size(&new, n)).sum();
     assert!(new_total + size(&new, "shared.bin") * 9 / 10 < old_total, "{new_total} vs {old_total}");
     for m in &manifest.models {
         assert_eq!(m.bytes, Some(size(&new, &m.file)));
         assert_eq!(m.encoding.as_deref(), Some("f16"));
+        let style = m.style_encoder.as_ref().unwrap();
+        assert_eq!(
+            (style.file.as_str(), style.bytes),
+            (format!("{}-style.bin", m.setting).as_str(), size(&new, &style.file))
+        );
     }
 
     let a = Weights::load_dir(&old).unwrap();
     let b = Weights::load_dir(&new).unwrap();
     assert_eq!(b.settings(), [Setting::Supervised, Setting::Unsupervised]);
-    assert_eq!(outputs(&a), outputs(&b), "the same bytes out of format 1 and format 2 f16");
+    assert!(b.has_style_encoder(Setting::Supervised) && b.has_style_encoder(Setting::Unsupervised));
+    assert_eq!(outputs(&a), outputs(&b), "the same bytes out of format 1 and format 3 f16");
 
-    // Repacking a format-2 folder again gives the same files.
+    // Repacking a format-3 folder again gives the same files.
     let again = out_dir("parts-f16-again");
     repack(&new, &again, Encodings::default()).unwrap();
-    for name in ["shared.bin", "supervised.bin", "unsupervised.bin", "manifest.json"] {
+    for name in &FILES[..5] {
         assert_eq!(read(&new, name), read(&again, name), "{name}");
     }
+    assert_eq!(read(&new, "manifest.json"), read(&again, "manifest.json"));
+}
+
+/// Format 3's point: label- and prior-based stylization need no style encoder; a reference
+/// motion asks for it with a stable code, and once added the results are the folder's.
+#[test]
+fn the_style_encoder_is_loaded_only_when_a_reference_motion_needs_it() {
+    let dir = out_dir("parts-style-later");
+    repack(&format1_dir(), &dir, Encodings::default()).unwrap();
+    let [manifest, norm, shared, sup, sup_style, unsup_style] = [
+        "manifest.json",
+        "norm.json",
+        "shared.bin",
+        "supervised.bin",
+        "supervised-style.bin",
+        "unsupervised-style.bin",
+    ]
+    .map(|n| read(&dir, n));
+    let files = WeightFiles {
+        manifest: &manifest,
+        norm: &norm,
+        shared: Some(&shared),
+        supervised: Some(&sup),
+        ..Default::default()
+    };
+    let mut w = Weights::from_files(files).unwrap();
+    assert!(!w.has_style_encoder(Setting::Supervised));
+    let full = Weights::load_dir(&dir).unwrap();
+    assert_eq!(label_output(&w), label_output(&full), "label-based without it");
+
+    let content = import("bandai", WALK).motion;
+    let old = w.style("old").unwrap();
+    let by_motion = Request::new(StyleSource::Motion { motion: &content, label: Some(old) }).with_seed(7);
+    let e = stylize::stylize(&w, &content, &by_motion).unwrap_err();
+    assert!(matches!(e, StylizeError::StyleEncoderUnavailable { .. }), "{e:?}");
+    assert_eq!(e.code(), "STYLE_ENCODER_UNAVAILABLE");
+
+    // The other setting's style encoder, the stylizer's file, or a damaged one: refused, and
+    // nothing changes.
+    for wrong in [&unsup_style, &sup] {
+        let m = bad_weights(w.add_style_encoder(Setting::Supervised, wrong).unwrap_err());
+        assert!(m.contains("supervised style encoder file"), "{m}");
+    }
+    let mut damaged = sup_style.clone();
+    let middle = damaged.len() / 2;
+    damaged[middle] ^= 1;
+    assert!(bad_weights(w.add_style_encoder(Setting::Supervised, &damaged).unwrap_err()).contains("fingerprint"));
+    assert!(!w.has_style_encoder(Setting::Supervised));
+    // No unsupervised model loaded: that setting's style encoder has nowhere to go.
+    assert!(matches!(
+        w.add_style_encoder(Setting::Unsupervised, &unsup_style),
+        Err(StylizeError::SettingUnavailable { setting: Setting::Unsupervised })
+    ));
+
+    w.add_style_encoder(Setting::Supervised, &sup_style).unwrap();
+    assert!(w.has_style_encoder(Setting::Supervised));
+    let bvh = |w: &Weights| stylize::stylize(w, &content, &by_motion).unwrap()[0].to_bvh().to_bvh_string();
+    assert_eq!(bvh(&w), bvh(&full));
 }
 
 #[test]
 fn a_setting_can_be_added_later_on_the_shared_networks() {
     let dir = out_dir("parts-lazy");
     repack(&format1_dir(), &dir, Encodings::default()).unwrap();
-    let (manifest, norm, shared, sup, unsup) = (
-        read(&dir, "manifest.json"),
-        read(&dir, "norm.json"),
-        read(&dir, "shared.bin"),
-        read(&dir, "supervised.bin"),
-        read(&dir, "unsupervised.bin"),
-    );
+    let [manifest, norm, shared, sup, sup_style, unsup, unsup_style] = [
+        "manifest.json",
+        "norm.json",
+        "shared.bin",
+        "supervised.bin",
+        "supervised-style.bin",
+        "unsupervised.bin",
+        "unsupervised-style.bin",
+    ]
+    .map(|n| read(&dir, n));
     let files = WeightFiles {
         manifest: &manifest,
         norm: &norm,
         shared: Some(&shared),
         supervised: Some(&sup),
-        unsupervised: None,
+        supervised_style: Some(&sup_style),
+        ..Default::default()
     };
     let mut w = Weights::from_files(files).unwrap();
     assert_eq!(w.settings(), [Setting::Supervised]);
@@ -139,11 +224,12 @@ fn a_setting_can_be_added_later_on_the_shared_networks() {
     assert_eq!(w.settings(), [Setting::Supervised]);
     w.add_setting(Setting::Unsupervised, &unsup).unwrap();
     assert_eq!(w.settings(), [Setting::Supervised, Setting::Unsupervised]);
+    w.add_style_encoder(Setting::Unsupervised, &unsup_style).unwrap();
     assert_eq!(outputs(&w), outputs(&Weights::load_dir(&dir).unwrap()));
 }
 
 #[test]
-fn format_2_files_are_checked_against_the_manifest() {
+fn format_3_files_are_checked_against_the_manifest() {
     let dir = out_dir("parts-checks");
     repack(&format1_dir(), &dir, encodings("q8", "q4g64")).unwrap();
     let (manifest, norm, shared, sup) =
@@ -153,7 +239,7 @@ fn format_2_files_are_checked_against_the_manifest() {
         norm,
         shared,
         supervised: Some(sup),
-        unsupervised: None,
+        ..Default::default()
     };
     let leak = |v: &Vec<u8>| -> &'static [u8] { Box::leak(v.clone().into_boxed_slice()) };
     assert!(Weights::from_files(files(Some(leak(&shared)), leak(&sup), leak(&norm))).is_ok());
@@ -176,7 +262,7 @@ fn format_2_files_are_checked_against_the_manifest() {
     changed_norm.push(b' ');
     let m = bad_weights(Weights::from_files(files(Some(leak(&shared)), leak(&sup), leak(&changed_norm))).unwrap_err());
     assert!(m.contains("norm.json"), "{m}");
-    // Format 2 bytes through the format-1 entry point (no shared file): refused, not a panic.
+    // Format 3 bytes through the format-1 entry point (no shared file): refused, not a panic.
     assert!(Weights::from_bytes(&manifest, &norm, Some(&sup), None).is_err());
 }
 

@@ -1,9 +1,11 @@
 """Reads our shipped weights (`assets/weights/*.bin`) into numpy arrays, no Rust needed.
 
-Format 2 (src/model/weights.rs, today's folders): part files, b"MSTYPT01" | u32 LE header-JSON
-length | header JSON {part, config, tensors: [{path, shape, encoding, offset, len}]} | payload;
-`shared.bin` holds the autoencoder and regressor, `supervised.bin` / `unsupervised.bin` a stylizer
-(its paths without the `stylizer.` prefix). Format 1 bundle: b"MSTYLZ01" | u32 LE config-JSON
+Formats 2 and 3 (src/model/parts.rs; format 3 is today's folders): part files, b"MSTYPT01" | u32
+LE header-JSON length | header JSON {part, config, tensors: [{path, shape, encoding, offset, len}]}
+| payload; `shared.bin` holds the autoencoder and regressor, `supervised.bin` / `unsupervised.bin`
+a stylizer (its paths without the `stylizer.` prefix; format 3: part "stylizer_core", without the
+style encoder, which is in `supervised-style.bin` / `unsupervised-style.bin`, part
+"style_encoder"). Format 1 bundle: b"MSTYLZ01" | u32 LE config-JSON
 length | config JSON | burnpack bytes. Burnpack (burn-pack 0.22, see its lib.rs): u32 magic 0x4255524E | u16 version |
 u32 metadata size | CBOR metadata {tensors: {name: {dtype, shape, data_offsets, param_id}},
 metadata} | padding to 256 bytes | tensor data (offsets relative to the data section).
@@ -145,15 +147,23 @@ def read_part(path):
 
 def read_bundle(path):
     """(config dict, {parameter path: float32 array}) of one model: a format-1 bundle, or a
-    format-2 stylizer part with the `shared.bin` beside it (paths as format 1's: `autoencoder.…`,
-    `regressor.…`, `stylizer.…`)."""
+    format-2 stylizer part or format-3 stylizer core with the `shared.bin` (and, format 3, the
+    `<setting>-style.bin`) beside it (paths as format 1's: `autoencoder.…`, `regressor.…`,
+    `stylizer.…`)."""
     with open(path, "rb") as f:
         magic = f.read(8)
     if magic == PART_MAGIC:
         header, stylizer = read_part(path)
-        if header["part"] != "stylizer":
+        if header["part"] not in ("stylizer", "stylizer_core"):
             raise ValueError(f"{path}: holds the {header['part']} networks, not a stylizer")
-        shared_header, tensors = read_part(os.path.join(os.path.dirname(os.path.abspath(path)), "shared.bin"))
+        beside = lambda name: os.path.join(os.path.dirname(os.path.abspath(path)), name)
+        if header["part"] == "stylizer_core":
+            stem = os.path.splitext(os.path.basename(path))[0]
+            style_header, style = read_part(beside(f"{stem}-style.bin"))
+            if style_header["part"] != "style_encoder" or style_header["config"] != header["config"]:
+                raise ValueError(f"{path}: the {stem}-style.bin beside it is not its style encoder")
+            stylizer.update(style)
+        shared_header, tensors = read_part(beside("shared.bin"))
         if shared_header["part"] != "shared":
             raise ValueError(f"{path}: the shared.bin beside it holds the {shared_header['part']} networks")
         tensors.update({"stylizer." + k: v for k, v in stylizer.items()})

@@ -24,6 +24,7 @@ pub mod device;
 pub mod generator;
 pub mod init;
 pub mod layers;
+pub mod parts;
 pub mod regressor;
 pub mod rng;
 pub mod style;
@@ -63,4 +64,8 @@ pub enum ModelError {
     /// Weight bytes could not be written or read.
     #[error("weights: {0}")]
     Weights(String),
+    /// The style encoder is needed (motion-based stylization, label inference) but its weights
+    /// are not loaded yet (format 3 keeps it in a file of its own, fetched when first needed).
+    #[error("the style encoder of the {setting} model is not loaded")]
+    StyleEncoderNotLoaded { setting: &'static str },
 }

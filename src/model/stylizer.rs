@@ -87,6 +87,10 @@ pub struct Model {
     pub config: ModelConfig,
     pub nets: MotionModel,
     device: Device,
+    /// Whether `nets.stylizer.style_encoder` holds trained weights: false for a format-3 model
+    /// loaded without its style-encoder file ([`Model::without_style_encoder`]) until
+    /// [`Model::set_style_encoder`]; every use of the style encoder checks it.
+    style_encoder_loaded: bool,
 }
 
 fn channels(what: &'static str, got: usize, expected: usize) -> Result<(), ModelError> {
@@ -115,7 +119,25 @@ impl Model {
     pub fn new(config: ModelConfig, nets: MotionModel) -> Self {
         let nets = nets.valid();
         let device = nets.devices().into_iter().next().unwrap_or_else(|| panic!("the model has no parameters"));
-        Self { config, nets, device }
+        Self { config, nets, device, style_encoder_loaded: true }
+    }
+
+    /// [`Model::new`] for networks whose style encoder is a placeholder (not trained weights):
+    /// everything but the style encoder works; [`Model::style_distribution`] (motion-based
+    /// styles, label inference) refuses until [`Model::set_style_encoder`].
+    pub fn without_style_encoder(config: ModelConfig, nets: MotionModel) -> Self {
+        Self { style_encoder_loaded: false, ..Self::new(config, nets) }
+    }
+
+    /// Puts trained style-encoder weights in (on this model's device).
+    pub fn set_style_encoder(&mut self, style_encoder: StyleEncoder) {
+        self.nets.stylizer.style_encoder = style_encoder.valid().to_device(&self.device);
+        self.style_encoder_loaded = true;
+    }
+
+    /// Whether the style encoder's weights are loaded (see [`Model::without_style_encoder`]).
+    pub fn has_style_encoder(&self) -> bool {
+        self.style_encoder_loaded
     }
 
     /// Untrained networks on `device`, weights from `seed` (tests, benchmarks).
@@ -178,6 +200,10 @@ impl Model {
         latent: Tensor<3>,
         labels: Option<&[usize]>,
     ) -> Result<StyleDistribution, ModelError> {
+        if !self.style_encoder_loaded {
+            let setting = if self.config.supervised { "supervised" } else { "unsupervised" };
+            return Err(ModelError::StyleEncoderNotLoaded { setting });
+        }
         let [b, c, l] = latent.dims();
         channels("motion latent", c, self.config.latent_dim)?;
         if l == 0 {

@@ -19,6 +19,11 @@ pub enum StylizeError {
     /// The weights hold no model for this setting.
     #[error("the {setting} model is not in these weights")]
     SettingUnavailable { setting: Setting },
+    /// A request that needs the style encoder (a reference motion, or a label to infer) of a
+    /// model loaded without it: format 3 keeps each style encoder in a file of its own, which a
+    /// loader adds when first needed ([`super::Weights::add_style_encoder`]).
+    #[error("the {setting} model's style encoder is not loaded (its file is fetched when a reference motion is first used)")]
+    StyleEncoderUnavailable { setting: Setting },
     /// A label-based request to the unsupervised model (it knows no labels).
     #[error(
         "label-based stylization needs the supervised model; the unsupervised one takes a reference motion or the prior"
@@ -76,7 +81,7 @@ pub enum StylizeError {
 
 impl StylizeError {
     /// A stable, machine-readable name of the failure class (the npm package's `error.code`):
-    /// `UNKNOWN_LABEL`, `SETTING_UNAVAILABLE`, `BAD_REQUEST` (a request the model cannot serve:
+    /// `UNKNOWN_LABEL`, `SETTING_UNAVAILABLE`, `STYLE_ENCODER_UNAVAILABLE`, `BAD_REQUEST` (a request the model cannot serve:
     /// samples, temperature, strength, guidance, mix weight or depth, body parts, a label where none fits or none where one is needed),
     /// `TOO_LONG`, `BAD_WEIGHTS`, `MODEL_OUTPUT`, `INTERNAL`, or the import's code
     /// ([`ImportError::code`]).
@@ -85,6 +90,7 @@ impl StylizeError {
         match self {
             UnknownLabel { .. } | LabelOutOfRange { .. } => "UNKNOWN_LABEL",
             SettingUnavailable { .. } => "SETTING_UNAVAILABLE",
+            StyleEncoderUnavailable { .. } => "STYLE_ENCODER_UNAVAILABLE",
             LabelNeedsSupervised
             | MotionNeedsLabel
             | LabelWithUnsupervised
@@ -108,6 +114,9 @@ impl From<ModelError> for StylizeError {
     fn from(e: ModelError) -> Self {
         match e {
             ModelError::Weights(m) => StylizeError::BadWeights(m),
+            ModelError::StyleEncoderNotLoaded { setting } => StylizeError::StyleEncoderUnavailable {
+                setting: Setting::from_name(setting).unwrap_or_default(),
+            },
             other => StylizeError::Model(other.to_string()),
         }
     }

@@ -6,7 +6,11 @@
 //! per stylizer setting holding only its stylizer (`supervised.bin`, `unsupervised.bin`), each a
 //! part file ([`crate::model::weights::save_part`]: every tensor by name in f16 or, for the large
 //! layers, integers with scales); every file listed with its size and FNV-1a 64 fingerprint, which
-//! the loaders check. **Format 1** (still read): no shared file, each setting's file a whole f16
+//! the loaders check. **Format 3** (what `motion-stylizer export` writes now) is format 2 with each
+//! stylizer in two files: `supervised.bin` holds the content encoder and generator (all that label-
+//! and prior-based stylization need), `supervised-style.bin` its style encoder
+//! ([`ModelEntry::style_encoder`]), which a browser fetches only when a reference motion is first
+//! used. **Format 1** (still read): no shared file, each setting's file a whole f16
 //! bundle ([`crate::model::weights::save_bundle`]).
 //!
 //! This is the one reader of the manifest: the npm package asks the engine which files to fetch
@@ -17,9 +21,9 @@
 use serde::{Deserialize, Serialize};
 
 /// The manifest format `export` writes.
-pub const FORMAT: u32 = 2;
+pub const FORMAT: u32 = 3;
 /// The formats this build reads.
-pub const FORMATS: [u32; 2] = [1, 2];
+pub const FORMATS: [u32; 3] = [1, 2, 3];
 
 /// A weight file of format 2: name (relative to the manifest), size and fingerprint.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -65,6 +69,8 @@ pub struct ListedModel {
     pub setting: String,
     pub file: String,
     pub bytes: u64,
+    /// Format 3: the style encoder's file, needed only for reference motions.
+    pub style_encoder: Option<ListedFile>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -110,7 +116,12 @@ impl Manifest {
             models: self
                 .models
                 .iter()
-                .map(|m| ListedModel { setting: m.setting.clone(), file: m.file.clone(), bytes: m.bytes.unwrap_or(0) })
+                .map(|m| ListedModel {
+                    setting: m.setting.clone(),
+                    file: m.file.clone(),
+                    bytes: m.bytes.unwrap_or(0),
+                    style_encoder: m.style_encoder.as_ref().map(|f| ListedFile { file: f.file.clone(), bytes: f.bytes }),
+                })
                 .collect(),
         }
     }
@@ -130,6 +141,10 @@ pub struct ModelEntry {
     pub fnv1a64: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub encoding: Option<String>,
+    /// Format 3: the file of the style encoder (`file` then holds the content encoder and the
+    /// generator), in the same encoding.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub style_encoder: Option<FileRef>,
     /// Width factor relative to the paper's sizes.
     pub width: f64,
     /// Training stages that produced it, in order (autoencoder first, then the stylizer).

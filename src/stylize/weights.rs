@@ -7,8 +7,11 @@ use super::StylizeError;
 use super::manifest::{self, Manifest};
 use crate::dataset::Style;
 use crate::features::NormStats;
-use crate::model::weights::{SharedNets, bundle_config, fnv1a64, load_bundle, load_shared, load_stylizer, part_header};
-use crate::model::{Model, ModelConfig, ModelError, MotionModel};
+use crate::model::weights::{
+    PartKind, SharedNets, bundle_config, fnv1a64, load_bundle, load_shared, load_style_encoder, load_stylizer,
+    load_stylizer_core, part_header,
+};
+use crate::model::{Model, ModelConfig, ModelError, MotionModel, StyleEncoder, Stylizer};
 
 /// Which of the two stylizers (paper §3.4): trained with style labels or without.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -51,15 +54,21 @@ impl core::fmt::Display for Setting {
 const MAX_WIDTH: usize = 8192;
 
 /// The bytes of a weights folder's files, for [`Weights::from_files`]: `manifest.json`, the
-/// statistics, and (format 2) the shared networks, with the file of each setting to load now.
+/// statistics, and (formats 2 and 3) the shared networks, with the file of each setting to load
+/// now and (format 3) its style encoder's, if it is needed now.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct WeightFiles<'a> {
     pub manifest: &'a [u8],
     pub norm: &'a [u8],
-    /// Format 2's shared networks (`shared.bin`); `None` for format 1.
+    /// The shared networks (`shared.bin`) of formats 2 and 3; `None` for format 1.
     pub shared: Option<&'a [u8]>,
     pub supervised: Option<&'a [u8]>,
     pub unsupervised: Option<&'a [u8]>,
+    /// Format 3: the style encoders' files (`supervised-style.bin`, `unsupervised-style.bin`),
+    /// each with its setting's file; without one, that model serves no reference motion until
+    /// [`Weights::add_style_encoder`].
+    pub supervised_style: Option<&'a [u8]>,
+    pub unsupervised_style: Option<&'a [u8]>,
 }
 
 /// The trained models and what goes with them: the manifest, the normalisation statistics and
@@ -93,13 +102,7 @@ impl Weights {
         supervised: Option<&[u8]>,
         unsupervised: Option<&[u8]>,
     ) -> Result<Weights, StylizeError> {
-        Self::from_files(WeightFiles {
-            manifest: manifest_json,
-            norm: norm_json,
-            shared: None,
-            supervised,
-            unsupervised,
-        })
+        Self::from_files(WeightFiles { manifest: manifest_json, norm: norm_json, supervised, unsupervised, ..Default::default() })
     }
 
     /// [`Weights::from_bytes`] on a given device.
@@ -110,7 +113,7 @@ impl Weights {
         supervised: Option<&[u8]>,
         unsupervised: Option<&[u8]>,
     ) -> Result<Weights, StylizeError> {
-        let files = WeightFiles { manifest: manifest_json, norm: norm_json, shared: None, supervised, unsupervised };
+        let files = WeightFiles { manifest: manifest_json, norm: norm_json, supervised, unsupervised, ..Default::default() };
         Self::from_files_on(device, files)
     }
 
@@ -156,9 +159,18 @@ impl Weights {
             unsupervised: None,
             label_codes: None,
         };
-        for (setting, bytes) in [(Setting::Supervised, files.supervised), (Setting::Unsupervised, files.unsupervised)] {
+        for (setting, bytes, style) in [
+            (Setting::Supervised, files.supervised, files.supervised_style),
+            (Setting::Unsupervised, files.unsupervised, files.unsupervised_style),
+        ] {
             if let Some(bytes) = bytes {
                 weights.add_setting(setting, bytes)?;
+            }
+            if let Some(style) = style {
+                if bytes.is_none() {
+                    return Err(bad(format!("the {setting} style encoder's file was given without the {setting} file")));
+                }
+                weights.add_style_encoder(setting, style)?;
             }
         }
         Ok(weights)
@@ -193,13 +205,23 @@ impl Weights {
                 let (header, _) = part_header(bytes).map_err(|e| context(bad(e.to_string())))?;
                 check_config(&header.config, setting, labels).map_err(context)?;
                 check_shared_fits(shared_config, &header.config).map_err(context)?;
-                let (config, stylizer) = load_stylizer(bytes, &self.device).map_err(|e| context(bad(e.to_string())))?;
+                let load_error = |e: crate::model::weights::PartError| context(bad(e.to_string()));
+                let (config, stylizer, whole) = if entry.style_encoder.is_some() {
+                    // Format 3: the style encoder comes from its own file (add_style_encoder);
+                    // until then a placeholder the model refuses to use.
+                    let (config, core) = load_stylizer_core(bytes, &self.device).map_err(load_error)?;
+                    let placeholder = StyleEncoder::new(&config, &self.device);
+                    (config, Stylizer::from_parts(core, placeholder), false)
+                } else {
+                    let (config, stylizer) = load_stylizer(bytes, &self.device).map_err(load_error)?;
+                    (config, stylizer, true)
+                };
                 let nets = MotionModel {
                     autoencoder: shared.autoencoder.clone(),
                     stylizer,
                     regressor: shared.regressor.clone(),
                 };
-                Model::new(config, nets)
+                if whole { Model::new(config, nets) } else { Model::without_style_encoder(config, nets) }
             }
         };
         if setting == Setting::Supervised {
@@ -213,6 +235,51 @@ impl Weights {
             Setting::Unsupervised => self.unsupervised = Some(model),
         }
         Ok(())
+    }
+
+    /// Loads the style encoder of `setting` (format 3: the file the manifest lists as its
+    /// `style_encoder`) into that setting's model, loaded before: what motion-based stylization
+    /// and label inference need. A no-op where it is loaded (formats 1 and 2 load it with the
+    /// model). Errors: [`StylizeError::SettingUnavailable`] (no such model loaded),
+    /// [`StylizeError::BadWeights`] (a file that is not this model's style encoder); on an error
+    /// nothing changes.
+    pub fn add_style_encoder(&mut self, setting: Setting, bytes: &[u8]) -> Result<(), StylizeError> {
+        let entry = self
+            .manifest
+            .models
+            .iter()
+            .find(|m| Setting::from_name(&m.setting) == Some(setting))
+            .ok_or(StylizeError::SettingUnavailable { setting })?;
+        let model = match setting {
+            Setting::Supervised => self.supervised.as_mut(),
+            Setting::Unsupervised => self.unsupervised.as_mut(),
+        }
+        .ok_or(StylizeError::SettingUnavailable { setting })?;
+        if model.has_style_encoder() {
+            return Ok(());
+        }
+        let file = entry.style_encoder.as_ref().ok_or_else(|| bad(format!("the {setting} entry lists no style encoder")))?;
+        let context = |m: String| bad(format!("{setting} style encoder file {}: {m}", file.file));
+        check_file(&file.file, Some(file.bytes), Some(&file.fnv1a64), bytes).map_err(|e| match e {
+            StylizeError::BadWeights(m) => context(m),
+            other => other,
+        })?;
+        let (header, _) = part_header(bytes).map_err(|e| context(e.to_string()))?;
+        if header.part != PartKind::StyleEncoder {
+            return Err(context(format!("it holds the {} networks, not the style encoder", header.part)));
+        }
+        if header.config != model.config {
+            return Err(context("its config is not its model's".into()));
+        }
+        let (_, style_encoder) = load_style_encoder(bytes, model.device()).map_err(|e| context(e.to_string()))?;
+        model.set_style_encoder(style_encoder);
+        Ok(())
+    }
+
+    /// Whether the model of `setting` is loaded with its style encoder (see
+    /// [`Weights::add_style_encoder`]).
+    pub fn has_style_encoder(&self, setting: Setting) -> bool {
+        self.model(setting).is_ok_and(Model::has_style_encoder)
     }
 
     /// Reads the weights folder `dir` (native builds only): `manifest.json`, the statistics file
@@ -238,13 +305,15 @@ impl Weights {
         let norm_json = read(&list.norm.file)?;
         let shared = list.shared.as_ref().map(|s| read(&s.file)).transpose()?;
         let (mut supervised, mut unsupervised) = (None, None);
+        let (mut supervised_style, mut unsupervised_style) = (None, None);
         for entry in &list.models {
-            let slot = match Setting::from_name(&entry.setting) {
-                Some(Setting::Supervised) => &mut supervised,
-                Some(Setting::Unsupervised) => &mut unsupervised,
+            let (slot, style_slot) = match Setting::from_name(&entry.setting) {
+                Some(Setting::Supervised) => (&mut supervised, &mut supervised_style),
+                Some(Setting::Unsupervised) => (&mut unsupervised, &mut unsupervised_style),
                 None => return Err(bad(format!("the manifest lists an unknown setting {:?}", entry.setting))),
             };
             *slot = Some(read(&entry.file)?);
+            *style_slot = entry.style_encoder.as_ref().map(|f| read(&f.file)).transpose()?;
         }
         Self::from_files_on(
             device,
@@ -254,6 +323,8 @@ impl Weights {
                 shared: shared.as_deref(),
                 supervised: supervised.as_deref(),
                 unsupervised: unsupervised.as_deref(),
+                supervised_style: supervised_style.as_deref(),
+                unsupervised_style: unsupervised_style.as_deref(),
             },
         )
     }
@@ -366,6 +437,14 @@ pub fn parse_manifest(json: &[u8]) -> Result<Manifest, StylizeError> {
         if let Some(m) = manifest.models.iter().find(|m| m.bytes.is_none() || m.fnv1a64.is_none()) {
             return Err(bad(format!("the {} entry lacks its file's size or fingerprint", m.setting)));
         }
+    }
+    // Format 3 keeps every style encoder in its own file; earlier formats in the model's.
+    if let Some(m) = manifest.models.iter().find(|m| m.style_encoder.is_some() != (manifest.format >= 3)) {
+        return Err(bad(if manifest.format >= 3 {
+            format!("the {} entry lacks its style encoder's file (manifest format 3)", m.setting)
+        } else {
+            format!("the {} entry lists a style encoder's file, which format {} has not", m.setting, manifest.format)
+        }));
     }
     Ok(manifest)
 }

@@ -146,6 +146,7 @@ pub fn export_runs(
             bytes: None,
             fnv1a64: None,
             encoding: None,
+            style_encoder: None,
             width: config.settings.width,
             stages: vec![stage_record(ae, &ae_config, ae_ckpt.meta.step)?, stage_record(dir, &config, ckpt.meta.step)?],
             // New networks: `motion-stylizer label-codes` computes them for these.
@@ -325,15 +326,22 @@ fn write_folder(
         holds: vec!["autoencoder".into(), "regressor".into()],
         encoding: encodings.shared.name(),
     });
+    // Format 3: per setting the networks every mode needs, and its style encoder apart (needed
+    // only for reference motions, so a browser fetches it when one is first used).
     for ((config, model), entry) in nets.into_iter().zip(manifest.models.iter_mut()) {
+        let (core, style) = model.stylizer.split();
         let file = format!("{}.bin", entry.setting);
-        let bytes = save_part(PartKind::Stylizer, &config, model.stylizer, &encodings.stylizer)?;
+        let bytes = save_part(PartKind::StylizerCore, &config, core, &encodings.stylizer)?;
         rundir::write_atomic(&out.join(&file), &bytes)?;
         let r = file_ref(&file, &bytes);
         entry.file = r.file;
         entry.bytes = Some(r.bytes);
         entry.fnv1a64 = Some(r.fnv1a64);
         entry.encoding = Some(encodings.stylizer.name());
+        let file = format!("{}-style.bin", entry.setting);
+        let bytes = save_part(PartKind::StyleEncoder, &config, style, &encodings.stylizer)?;
+        rundir::write_atomic(&out.join(&file), &bytes)?;
+        entry.style_encoder = Some(file_ref(&file, &bytes));
     }
     rundir::write_atomic(&out.join("manifest.json"), manifest.to_json()?.as_bytes())?;
     Ok(manifest)

@@ -16,7 +16,7 @@ use crate::stylize::{self, BodyPart, PartRequests, Request, Setting, StyleSource
 
 /// The files a weights folder's `manifest.json` names, for the JS wrapper to fetch (the engine is
 /// the one reader of the manifest): JSON `{format, norm, shared: {file, bytes} | null, models:
-/// [{setting, file, bytes}]}`. Errors: `BAD_WEIGHTS`.
+/// [{setting, file, bytes, style_encoder: {file, bytes} | null}]}`. Errors: `BAD_WEIGHTS`.
 #[wasm_bindgen(js_name = weightFileList)]
 pub fn weight_file_list(manifest: &[u8]) -> Result<String, JsValue> {
     panic::install();
@@ -65,6 +65,7 @@ impl Engine {
             shared: shared.as_deref(),
             supervised: supervised.as_deref(),
             unsupervised: unsupervised.as_deref(),
+            ..Default::default()
         };
         let weights = Weights::from_files_on(&device, files).map_err(|e| stylize_error(&e))?;
         Ok(Engine { weights, backend })
@@ -78,6 +79,24 @@ impl Engine {
         let setting =
             Setting::from_name(setting).ok_or_else(|| bad_request(&format!("unknown setting {setting:?}")))?;
         self.weights.add_setting(setting, bytes).map_err(|e| stylize_error(&e))
+    }
+
+    /// Adds the style encoder of `setting` from its file's bytes (format 3: the manifest's
+    /// `style_encoder` file of that setting, fetched when a reference motion is first used; a
+    /// stylization that needs it fails with `STYLE_ENCODER_UNAVAILABLE` until then). A no-op
+    /// where it is loaded. Errors: `BAD_REQUEST` (another name), `SETTING_UNAVAILABLE` (that
+    /// model is not loaded), `BAD_WEIGHTS`.
+    #[wasm_bindgen(js_name = addStyleEncoder)]
+    pub fn add_style_encoder(&mut self, setting: &str, bytes: &[u8]) -> Result<(), JsValue> {
+        let setting =
+            Setting::from_name(setting).ok_or_else(|| bad_request(&format!("unknown setting {setting:?}")))?;
+        self.weights.add_style_encoder(setting, bytes).map_err(|e| stylize_error(&e))
+    }
+
+    /// Whether the model of `setting` is loaded with its style encoder.
+    #[wasm_bindgen(js_name = hasStyleEncoder)]
+    pub fn has_style_encoder(&self, setting: &str) -> bool {
+        Setting::from_name(setting).is_some_and(|s| self.weights.has_style_encoder(s))
     }
 
     /// The settings the manifest lists, loaded or not.

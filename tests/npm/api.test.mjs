@@ -171,8 +171,8 @@ test('stylize: every style source; seeds are deterministic', async () => {
 
 test('supervised motion-based without a label: the reference label inferred and reported', async () => {
   const content = s.importBvh(walk);
-  assert.equal(s.inferLabel(ref), 'old');
-  assert.equal(s.inferLabel(read(fixture('bandai/dataset-1_walk_tired_001_f90.bvh'))), 'tired');
+  assert.equal(await s.inferLabel(ref), 'old');
+  assert.equal(await s.inferLabel(read(fixture('bandai/dataset-1_walk_tired_001_f90.bvh'))), 'tired');
   const [inferred] = await s.stylize(content, { styleMotion: ref });
   const [given] = await s.stylize(content, { styleMotion: ref, label: 'old' });
   assert.equal(inferred.inferredLabel, 'old');

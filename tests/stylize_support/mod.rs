@@ -88,6 +88,7 @@ pub fn manifest() -> Manifest {
         bytes: None,
         fnv1a64: None,
         encoding: None,
+        style_encoder: None,
         width: WIDTH,
         stages: vec![stage("ae"), stage("stylizer")],
         label_codes: None,

@@ -1,8 +1,17 @@
 // Your own weights in the demo: a weights folder (`motion-stylizer train all` writes RUN/weights/,
 // `export -o DIR` any) chosen as a folder or as a .zip of it, read into the bytes the package's
-// Stylizer.load({ weights: { manifest, norm, shared, supervised?, unsupervised? } }) takes.
+// Stylizer.load({ weights: { manifest, norm, shared, supervised?, unsupervised?, supervisedStyle?,
+// unsupervisedStyle? } }) takes (format 3 keeps each setting's style encoder in <setting>-style.bin).
 
-const FILES = { manifest: 'manifest.json', norm: 'norm.json', shared: 'shared.bin', supervised: 'supervised.bin', unsupervised: 'unsupervised.bin' };
+const FILES = {
+  manifest: 'manifest.json',
+  norm: 'norm.json',
+  shared: 'shared.bin',
+  supervised: 'supervised.bin',
+  unsupervised: 'unsupervised.bin',
+  supervisedStyle: 'supervised-style.bin',
+  unsupervisedStyle: 'unsupervised-style.bin',
+};
 const MAX_BYTES = 256 * 1024 * 1024;
 
 const coded = (code, message) => Object.assign(new Error(message), { code });

@@ -105,7 +105,7 @@ const ops = {
     const t0 = performance.now();
     const needsLabel = (src) => (src?.kind === 'mix' ? needsLabel(src.a) || needsLabel(src.b) : src?.kind === 'motion' && !src.label);
     const ref = slots.get('ref');
-    const inferredLabel = !unsupervised && ref && needsLabel(source) ? stylizer.inferLabel(ref) : undefined;
+    const inferredLabel = !unsupervised && ref && needsLabel(source) ? await stylizer.inferLabel(ref) : undefined;
     // Parts of their own: 'content', or a source (a reference without a label: the package infers it per part).
     const own = parts && Object.fromEntries(Object.entries(parts).map(([p, v]) => [p, v === 'content' ? 'content' : styleOf(v)]));
     const outputs = await stylizer.stylize(content, { ...styleOf(source, inferredLabel), parts: own, unsupervised, samples, seed, temperature, strength, guidance, rig });
