@@ -208,8 +208,9 @@ fn train_all_on_a_labelled_folder_of_two_rigs_exports_weights_that_stylize_with_
     assert_eq!(manifest.styles, ["hurried", "slowmo", "tiptoe"], "old labels first, the new one added");
     assert_eq!(manifest.models[0].width, 0.125, "the width of the weights started from");
     let tuned_codes = manifest.models.iter().find(|m| m.setting == "supervised").unwrap().label_codes.clone().unwrap();
-    assert_eq!(tuned_codes.takes, [4, 1, 2], "hurried keeps its codes, slowmo and tiptoe from the new files");
+    assert_eq!(tuned_codes.takes, [4, 5, 2], "hurried keeps its codes, slowmo's merged with its new file's");
     assert_eq!(tuned_codes.codes[0], codes.codes[0]);
+    assert_ne!(tuned_codes.codes[1], codes.codes[1], "slowmo's code moved by its new take");
     let norm_before = std::fs::read_to_string(weights.join("norm.json")).unwrap();
     assert_eq!(std::fs::read_to_string(tuned_weights.join("norm.json")).unwrap(), norm_before, "statistics kept");
     let styles = ok(cli(&["styles", "--weights", p(&tuned_weights)]));

@@ -16,7 +16,8 @@
 //!
 //! **Fine-tuning** (`--from WEIGHTS`): every stage starts from the weights folder's networks and
 //! keeps its width and normalisation statistics; the data's new labels are added after the old
-//! ones ([`super::finetune`]). Old labels the data has no files of keep their label codes.
+//! ones ([`super::finetune`]). The old labels' codes are merged with the data's by take count
+//! ([`super::label_codes::merge_old_codes`]): one without files keeps its code.
 //!
 //! **Report.** What was used is printed and written to `RUN/report.json` ([`Report`]): the files
 //! (found, used, held out, skipped and why), every label's files and minutes, the unlabelled
@@ -370,17 +371,12 @@ fn write_label_codes(
         .map(|(name, group, style, motion)| LabelledMotion { name: name.clone(), group: *group, style: *style, motion })
         .collect();
     let mut codes = label_codes_of(&weights, &items, opts.command.clone(), |_, _| {})?;
-    // Fine-tuned: old labels without files in this data keep the codes they came with.
+    // Fine-tuned: the old labels' codes merged with the new takes' by take count.
     if let Some(from) = &opts.from {
         let old: Manifest = rundir::read_json(&from.join("manifest.json"))?;
         let old_codes = old.models.iter().find(|m| m.setting == "supervised").and_then(|m| m.label_codes.as_ref());
         if let Some(old_codes) = old_codes {
-            for (i, (row, takes)) in old_codes.codes.iter().zip(&old_codes.takes).enumerate() {
-                if codes.takes.get(i) == Some(&0) && codes.codes.get(i).is_some_and(|c| c.len() == row.len()) {
-                    codes.codes[i] = row.clone();
-                    codes.takes[i] = *takes;
-                }
-            }
+            super::label_codes::merge_old_codes(&mut codes, old_codes);
         }
     }
     say(format!("label codes from {} labelled training files", items.len()));

@@ -96,3 +96,45 @@ pub fn label_codes_of(
     }
     Ok(LabelCodes { command, takes: takes_per_label, codes })
 }
+
+/// Fine-tuning's label codes: `codes` (computed from the new data's takes) merged with `old`
+/// (the weights' own, from their training takes). Each old label's code becomes the mean over
+/// both sets of takes — `old` and the new code weighted by their take counts — so a label the new
+/// data has no files of keeps its code, and a few new takes of an old label (e.g. `normal`, whose
+/// code the default guidance measures every style against) move a code made from thousands only
+/// a little. New labels (past `old`'s) keep the codes of the new data. A row whose length differs
+/// (another style width) is left as computed.
+pub fn merge_old_codes(codes: &mut LabelCodes, old: &LabelCodes) {
+    for (i, (old_row, &old_takes)) in old.codes.iter().zip(&old.takes).enumerate() {
+        let (Some(row), Some(takes)) = (codes.codes.get_mut(i), codes.takes.get_mut(i)) else { continue };
+        if row.len() != old_row.len() || old_takes == 0 {
+            continue;
+        }
+        let total = old_takes + *takes;
+        let (w_old, w_new) = (old_takes as f32 / total as f32, *takes as f32 / total as f32);
+        for (v, o) in row.iter_mut().zip(old_row) {
+            *v = w_old * o + w_new * *v;
+        }
+        *takes = total;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn old_codes_are_kept_or_merged_by_take_count_and_new_labels_keep_theirs() {
+        let old =
+            LabelCodes { command: "old".into(), takes: vec![300, 10], codes: vec![vec![1.0, 0.0], vec![0.0, 2.0]] };
+        let mut codes = LabelCodes {
+            command: "new".into(),
+            takes: vec![100, 0, 4],
+            codes: vec![vec![5.0, 4.0], vec![0.0, 0.0], vec![7.0, 7.0]],
+        };
+        merge_old_codes(&mut codes, &old);
+        assert_eq!(codes.takes, [400, 10, 4]);
+        assert_eq!(codes.codes, [vec![2.0, 1.0], vec![0.0, 2.0], vec![7.0, 7.0]]);
+        assert_eq!(codes.command, "new");
+    }
+}
