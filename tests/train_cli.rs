@@ -5,7 +5,7 @@
 
 use burn::prelude::*;
 use motion_stylizer::features::NormStats;
-use motion_stylizer::model::weights::load_stylizer;
+use motion_stylizer::model::weights::{load_style_encoder, load_stylizer_core};
 use motion_stylizer::stylize::manifest::Manifest;
 use motion_stylizer::train::rundir::{self, Checkpoint, CsvTable, RunLog};
 use std::path::{Path, PathBuf};
@@ -204,11 +204,18 @@ fn stylizer_trains_in_both_settings_and_exports() {
         assert!(entry.stages[1].heldout.contains_key("hsa") && !entry.stages[1].machine.is_empty());
         let bytes = std::fs::read(weights.join(&entry.file)).unwrap();
         assert_eq!(entry.bytes, Some(bytes.len() as u64));
-        let (config, _stylizer) = load_stylizer(&bytes, &Device::flex()).unwrap();
+        let (config, _core) = load_stylizer_core(&bytes, &Device::flex()).unwrap();
         assert_eq!(config.supervised, supervised);
         assert_eq!(config.num_styles, 16);
+        // Format 3: the style encoder in a file of its own, of the same model.
+        let style = entry.style_encoder.as_ref().expect("format 3 names the style encoder's file");
+        let style_bytes = std::fs::read(weights.join(&style.file)).unwrap();
+        assert_eq!(style.bytes, style_bytes.len() as u64);
+        assert_eq!(style.fnv1a64, motion_stylizer::model::weights::fnv1a64(&style_bytes));
+        let (style_config, _encoder) = load_style_encoder(&style_bytes, &Device::flex()).unwrap();
+        assert_eq!(style_config, config);
     }
-    // Format 2: one shared autoencoder + regressor, both settings loadable on it.
+    // One shared autoencoder + regressor, both settings loadable on it.
     assert_eq!(manifest.shared.as_ref().map(|s| s.file.file.as_str()), Some("shared.bin"));
     let loaded = motion_stylizer::stylize::Weights::load_dir(&weights).unwrap();
     assert_eq!(loaded.settings().len(), 2);
