@@ -15,6 +15,7 @@ export type ErrorCode =
   | 'BAD_REQUEST' // options the API or the model cannot serve
   | 'BAD_WEIGHTS' // weight files that cannot be used
   | 'BACKEND_UNAVAILABLE' // a backend this build does not have
+  | 'BUSY' // WebGPU: a model added while a stylization runs on the engine
   | 'FETCH' // a package or weights file could not be fetched
   | 'MODEL_OUTPUT'
   | 'INTERNAL'; // a bug: the engine trapped (a panic, with its message); the next call runs on a fresh engine
@@ -72,7 +73,11 @@ export interface LoadOptions {
    * weights given as bytes.
    */
   onProgress?: (progress: LoadProgress) => void;
-  /** 'cpu' (default, Burn flex with wasm SIMD); 'webgpu' falls back to 'cpu' (see fallbackReason). */
+  /**
+   * 'cpu' (default, Burn flex with wasm SIMD); 'webgpu': Burn's wgpu runtime on navigator.gpu (a
+   * second wasm file, engine-webgpu_bg.wasm, fetched only then), falling back to 'cpu' where there
+   * is no WebGPU or its device fails (see backend and fallbackReason).
+   */
   backend?: 'cpu' | 'webgpu' | 'ndarray';
   /**
    * Which models may be used (default both, in this order): the first one the weights have is
@@ -254,7 +259,7 @@ export class StylizedMotion {
 
 export class Stylizer {
   static load(options?: LoadOptions): Promise<Stylizer>;
-  /** The backend in use ('cpu', or 'ndarray'). */
+  /** The backend in use ('cpu', 'webgpu', or 'ndarray'). */
   readonly backend: string;
   /** Why the requested backend is not the one in use; null when it is. */
   readonly fallbackReason: string | null;

@@ -8,8 +8,21 @@
 // wasm-bindgen's --experimental-reset-state-function), and the engine's objects of the old one are
 // rebuilt when next used: a Stylizer's engine from the weights' bytes it keeps, a Motion from its
 // BVH text.
+//
+// Two engines: the CPU one (engine.js + engine_bg.wasm, Burn's flex backend), always used; and the
+// WebGPU one (engine-webgpu.js + engine-webgpu_bg.wasm, Burn's wgpu runtime on navigator.gpu),
+// imported only when `load({ backend: 'webgpu' })` asks for it. Each is its own wasm instance
+// with its own objects: a Motion is imported into the engine that uses it.
 
-import init, * as wasm from './engine.js';
+import init, * as cpuEngine from './engine.js';
+
+/**
+ * A wasm engine: its module (imported when first needed), its instance's start, and its
+ * generation (how many times a trapped instance has been replaced: objects of an older one are
+ * stale).
+ */
+const CPU = { name: 'cpu', script: './engine.js', file: './engine_bg.wasm', mod: cpuEngine, init, ready: null, generation: 0 };
+const WEBGPU = { name: 'webgpu', script: './engine-webgpu.js', file: './engine-webgpu_bg.wasm', mod: null, init: null, ready: null, generation: 0 };
 
 /** A JS Error with a stable `code` (the engine's errors carry the same property). */
 function codedError(code, message) {
@@ -186,53 +199,71 @@ async function readAll(folder, listed, onProgress, extra = {}) {
   return bytes;
 }
 
-let engineReady = null;
-
-/** Instantiates the wasm module once per realm (streaming where fetch is used); retried after a failure. */
-function initEngine() {
-  engineReady ??= (async () => {
-    const url = new URL('./engine_bg.wasm', import.meta.url);
+/**
+ * Imports and instantiates the engine `rt` once per realm (streaming where fetch is used);
+ * retried after a failure.
+ */
+function initEngine(rt = CPU) {
+  rt.ready ??= (async () => {
+    const url = new URL(rt.file, import.meta.url);
     try {
-      await init({ module_or_path: url.protocol === 'file:' ? await readUrl(url) : url });
+      if (rt.mod == null) {
+        const mod = await import(new URL(rt.script, import.meta.url).href);
+        rt.init = mod.default;
+        rt.mod = mod;
+      }
+      await rt.init({ module_or_path: url.protocol === 'file:' ? await readUrl(url) : url });
     } catch (e) {
-      engineReady = null;
+      rt.ready = null;
       throw e.code ? e : codedError('FETCH', `cannot start ${url}: ${e.message}`);
     }
   })();
-  return engineReady;
+  return rt.ready;
 }
 
-/** How many times a trapped wasm instance has been replaced: engine objects of an older one are stale. */
-let generation = 0;
+/** A trap in engine `rt` as an INTERNAL error with the panic's message, after its instance is replaced. */
+function trapped(e, rt) {
+  let message;
+  try {
+    message = rt.mod.takePanic();
+  } catch {
+    // An instance too broken to say: the trap's own message below.
+  }
+  try {
+    rt.mod.__wbg_reset_state();
+    rt.generation++;
+  } catch {
+    // No fresh instance (out of memory?): the next call traps again and tries again.
+  }
+  return codedError('INTERNAL', `internal error, the engine restarts: ${message ?? e.message}`);
+}
 
 /**
- * Runs `f`, a call into the engine. A trap (the engine panicked, or ran out of memory or stack)
+ * Runs `f`, a call into engine `rt`. A trap (the engine panicked, or ran out of memory or stack)
  * becomes an INTERNAL error with the panic's message, after the instance is replaced.
  */
-function guard(f) {
+function guard(f, rt = CPU) {
   try {
     return f();
   } catch (e) {
     if (!(e instanceof WebAssembly.RuntimeError)) throw e;
-    let message;
-    try {
-      message = wasm.takePanic();
-    } catch {
-      // An instance too broken to say: the trap's own message below.
-    }
-    try {
-      wasm.__wbg_reset_state();
-      generation++;
-    } catch {
-      // No fresh instance (out of memory?): the next call traps again and tries again.
-    }
-    throw codedError('INTERNAL', `internal error, the engine restarts: ${message ?? e.message}`);
+    throw trapped(e, rt);
   }
 }
 
-/** Frees an engine object of `made` (its generation) unless its instance has been replaced since. */
-function release(object, made) {
-  if (made === generation) object.free();
+/** `guard` for an async call of engine `rt` (a Promise the engine returns). */
+async function guardAsync(f, rt) {
+  try {
+    return await f();
+  } catch (e) {
+    if (!(e instanceof WebAssembly.RuntimeError)) throw e;
+    throw trapped(e, rt);
+  }
+}
+
+/** Frees an engine object of `made` (its generation in engine `rt`) unless that instance has been replaced since. */
+function release(object, made, rt = CPU) {
+  if (made === rt.generation) object.free();
 }
 
 function toBytes(value, what) {
@@ -255,7 +286,7 @@ const SETTINGS = ['supervised', 'unsupervised'];
 
 /** The engine's list of a manifest's files: {format, norm, shared, models: [{setting, file, bytes, style_encoder}]}. */
 function fileList(manifest) {
-  return JSON.parse(guard(() => wasm.weightFileList(manifest)));
+  return JSON.parse(guard(() => CPU.mod.weightFileList(manifest)));
 }
 
 /**
@@ -281,8 +312,9 @@ async function fetchWeights(base, settings, onProgress) {
 }
 
 // Module-internal access to the classes' private state (set in their static blocks).
-let engineMotion; // (Motion) => the engine's motion, on the current instance
+let engineMotion; // (Motion, engine) => that engine's motion, on its current instance
 let weightFilesOf; // (Stylizer) => the weight files' bytes it keeps
+let runtimeOf; // (Stylizer) => the engine it runs on (CPU or WEBGPU)
 
 /** The style source of one options object: label, styleMotion (+ label), prior, or mix {a, b, t}. */
 function styleSpec(stylizer, o, depth) {
@@ -292,7 +324,8 @@ function styleSpec(stylizer, o, depth) {
   if (label != null && typeof label !== 'string') throw codedError('BAD_REQUEST', 'label must be a string');
   const given = ['styleMotion', 'prior', 'mix'].filter((k) => o[k] != null && o[k] !== false);
   if (given.length > 1) throw codedError('BAD_REQUEST', `give one style source, not ${given.join(' and ')}`);
-  const made = generation;
+  const rt = runtimeOf(stylizer);
+  const made = rt.generation;
   if (o.mix != null) {
     const { a, b, t } = o.mix;
     if (label != null) throw codedError('BAD_REQUEST', 'a mix takes its labels inside a and b');
@@ -301,23 +334,23 @@ function styleSpec(stylizer, o, depth) {
     try {
       const sb = styleSpec(stylizer, b, depth + 1);
       try {
-        return guard(() => wasm.StyleSpec.mix(sa, sb, t));
+        return guard(() => rt.mod.StyleSpec.mix(sa, sb, t), rt);
       } finally {
-        release(sb, made);
+        release(sb, made, rt);
       }
     } finally {
-      release(sa, made);
+      release(sa, made, rt);
     }
   }
   if (o.styleMotion != null) {
-    const reference = engineMotion(stylizer.asMotion(o.styleMotion, 'styleMotion'));
-    return guard(() => wasm.StyleSpec.motion(reference, label ?? undefined));
+    const reference = engineMotion(stylizer.asMotion(o.styleMotion, 'styleMotion'), rt);
+    return guard(() => rt.mod.StyleSpec.motion(reference, label ?? undefined), rt);
   }
   if (o.prior === true) {
     if (label != null) throw codedError('BAD_REQUEST', 'the prior takes no label');
-    return guard(() => wasm.StyleSpec.prior());
+    return guard(() => rt.mod.StyleSpec.prior(), rt);
   }
-  if (label != null) return guard(() => wasm.StyleSpec.label(label));
+  if (label != null) return guard(() => rt.mod.StyleSpec.label(label), rt);
   throw codedError('BAD_REQUEST', 'give a style: label, styleMotion, prior: true or mix: {a, b, t}');
 }
 
@@ -341,29 +374,28 @@ function mapJson(options, what) {
 /** An imported motion (30 fps, canonical rig inside), ready to be stylized or used as a style. */
 export class Motion {
   #text;
-  #inner;
-  #made;
   #map;
+  /** By engine (CPU, WEBGPU): {inner, made}, that engine's motion and its generation. */
+  #inners = new Map();
 
   /** @internal */
-  constructor(text, map, inner) {
+  constructor(text, map, inner, rt = CPU) {
     this.#text = text;
     this.#map = map;
-    this.#inner = inner;
-    this.#made = generation;
+    this.#inners.set(rt, { inner, made: rt.generation });
   }
 
   static {
-    engineMotion = (m) => m.#live();
+    engineMotion = (m, rt) => m.#live(rt);
   }
 
-  /** The engine's motion; imported again from the text if the instance was replaced or it was freed. */
-  #live() {
-    if (this.#inner == null || this.#made !== generation) {
-      this.#inner = guard(() => wasm.Motion.fromBvh(this.#text, this.#map));
-      this.#made = generation;
-    }
-    return this.#inner;
+  /** Engine `rt`'s motion; imported again from the text if that instance was replaced or it was freed. */
+  #live(rt = CPU) {
+    const kept = this.#inners.get(rt);
+    if (kept != null && kept.made === rt.generation) return kept.inner;
+    const inner = guard(() => rt.mod.Motion.fromBvh(this.#text, this.#map), rt);
+    this.#inners.set(rt, { inner, made: rt.generation });
+    return inner;
   }
 
   get frames() {
@@ -408,8 +440,8 @@ export class Motion {
 
   /** Releases its memory in the engine now rather than when garbage-collected (a later use imports it again). */
   free() {
-    if (this.#inner != null) release(this.#inner, this.#made);
-    this.#inner = null;
+    for (const [rt, { inner, made }] of this.#inners) release(inner, made, rt);
+    this.#inners.clear();
   }
 }
 
@@ -417,11 +449,13 @@ export class Motion {
 export class StylizedMotion {
   #output;
   #made;
+  #rt;
 
   /** @internal */
-  constructor(output) {
+  constructor(output, rt = CPU) {
     this.#output = output;
-    this.#made = generation;
+    this.#rt = rt;
+    this.#made = rt.generation;
     this.frames = output.frames;
     this.fps = output.fps;
     this.skeleton = { names: output.jointNames(), parents: Array.from(output.parents()) };
@@ -429,7 +463,7 @@ export class StylizedMotion {
 
   #live() {
     if (this.#output == null) throw codedError('BAD_REQUEST', 'this StylizedMotion has been freed');
-    if (this.#made !== generation) {
+    if (this.#made !== this.#rt.generation) {
       throw codedError('INTERNAL', 'this result was made by an engine that has restarted since: stylize again');
     }
     return this.#output;
@@ -438,12 +472,12 @@ export class StylizedMotion {
   /** BVH text (the bytes the native CLI writes). */
   toBvh() {
     const output = this.#live();
-    return guard(() => output.toBvh());
+    return guard(() => output.toBvh(), this.#rt);
   }
   /** World joint positions, Float32Array of frames × joints × 3. */
   positions() {
     const output = this.#live();
-    return guard(() => output.positions());
+    return guard(() => output.positions(), this.#rt);
   }
 
   /**
@@ -453,7 +487,7 @@ export class StylizedMotion {
    */
   toGlb() {
     const output = this.#live();
-    return guard(() => output.toGlb());
+    return guard(() => output.toGlb(), this.#rt);
   }
 
   /**
@@ -478,7 +512,7 @@ export class StylizedMotion {
       } finally {
         pose.free();
       }
-    });
+    }, this.#rt);
     const { names, parents } = this.skeleton;
     const joints = names.length;
     const count = frames.length / (joints * 7);
@@ -513,9 +547,19 @@ export class StylizedMotion {
   }
   /** Releases its memory in the engine now rather than when garbage-collected; it cannot be used after. */
   free() {
-    if (this.#output != null) release(this.#output, this.#made);
+    if (this.#output != null) release(this.#output, this.#made, this.#rt);
     this.#output = null;
   }
+}
+
+/** A WebGPU engine of the weight files' bytes (the first setting they have; #adopt adds the rest). */
+async function webGpuEngine(f) {
+  await initEngine(WEBGPU);
+  const first = SETTINGS.find((s) => f[s] != null);
+  return guardAsync(
+    () => WEBGPU.mod.Engine.createWebGpu(f.manifest, f.norm, f.shared, first === 'supervised' ? f.supervised : undefined, first === 'unsupervised' ? f.unsupervised : undefined),
+    WEBGPU,
+  );
 }
 
 export class Stylizer {
@@ -529,14 +573,21 @@ export class Stylizer {
   #allowed;
   /** Downloads in flight, by setting (and `${setting}Style` for style encoders). */
   #pending = new Map();
+  /** The engine it runs on: CPU, or WEBGPU (whose engine is built asynchronously: #revive). */
+  #rt;
 
-  /** @internal */
-  constructor(files, engineBackend, fallbackReason, source, allowed) {
+  /** @internal `engine`: a WebGPU engine built from `files` (WEBGPU), or undefined (CPU: built here). */
+  constructor(files, engineBackend, fallbackReason, source, allowed, rt = CPU, engine = undefined) {
     this.#files = files;
     this.#engineBackend = engineBackend;
     this.#source = source;
     this.#allowed = allowed;
-    const backend = guard(() => this.#live().backend);
+    this.#rt = rt;
+    if (engine != null) {
+      this.#engine = engine;
+      this.#made = rt.generation;
+    }
+    const backend = guard(() => this.#live().backend, rt);
     this.backend = backend === 'flex' ? 'cpu' : backend;
     this.fallbackReason = fallbackReason;
     this.weightsId = fingerprint(files.manifest, files.norm);
@@ -545,28 +596,52 @@ export class Stylizer {
 
   static {
     weightFilesOf = (s) => ({ files: s.#files, source: s.#source });
+    runtimeOf = (s) => s.#rt;
   }
 
   /**
    * The engine; built again from the weights' bytes if the instance was replaced or it was freed
-   * (with every setting whose bytes it has: the first at construction, the others added).
+   * (with every setting whose bytes it has: the first at construction, the others added). A
+   * WebGPU engine is built asynchronously: the async calls #revive it first.
    */
   #live() {
-    if (this.#engine == null || this.#made !== generation) {
+    if (this.#engine == null || this.#made !== this.#rt.generation) {
+      if (this.#rt !== CPU) throw codedError('INTERNAL', 'the WebGPU engine was freed or restarted: call stylize again');
       const f = this.#files;
       const [first, ...others] = SETTINGS.filter((s) => f[s] != null);
-      const engine = guard(() => new wasm.Engine(f.manifest, f.norm, f.shared, first === 'supervised' ? f.supervised : undefined, first === 'unsupervised' ? f.unsupervised : undefined, this.#engineBackend));
-      try {
-        for (const s of others) guard(() => engine.addSetting(s, f[s]));
-        for (const s of SETTINGS) if (f[s] != null && f[`${s}Style`] != null) guard(() => engine.addStyleEncoder(s, f[`${s}Style`]));
-      } catch (e) {
-        engine.free();
-        throw e;
-      }
-      this.#engine = engine;
-      this.#made = generation;
+      const engine = guard(() => new CPU.mod.Engine(f.manifest, f.norm, f.shared, first === 'supervised' ? f.supervised : undefined, first === 'unsupervised' ? f.unsupervised : undefined, this.#engineBackend));
+      this.#adopt(engine);
     }
     return this.#engine;
+  }
+
+  /** `engine`, with every other setting and style encoder whose bytes this Stylizer has, as its engine. */
+  #adopt(engine) {
+    const f = this.#files;
+    const rt = this.#rt;
+    const [, ...others] = SETTINGS.filter((s) => f[s] != null);
+    try {
+      for (const s of others) if (!engine.settings().includes(s)) guard(() => engine.addSetting(s, f[s]), rt);
+      for (const s of SETTINGS) if (f[s] != null && f[`${s}Style`] != null) guard(() => engine.addStyleEncoder(s, f[`${s}Style`]), rt);
+    } catch (e) {
+      engine.free();
+      throw e;
+    }
+    this.#engine = engine;
+    this.#made = rt.generation;
+  }
+
+  /** The engine, a WebGPU one built again (asynchronously) where it was freed or its instance replaced. */
+  async #revive() {
+    if (this.#rt === CPU || (this.#engine != null && this.#made === this.#rt.generation)) return this.#live();
+    this.#adopt(await webGpuEngine(this.#files));
+    return this.#engine;
+  }
+
+  /** Runs a stylization on the engine: `now(engine)` on the CPU, `later(engine)` (a Promise) on WebGPU. */
+  async #run(now, later) {
+    const engine = await this.#revive();
+    return this.#rt === CPU ? guard(() => now(engine)) : guardAsync(() => later(engine), this.#rt);
   }
 
   /**
@@ -591,7 +666,7 @@ export class Stylizer {
     await this.#ensure(setting);
     const key = `${setting}Style`;
     if (this.#files[key] != null || this.#files[setting] == null) return;
-    if (guard(() => this.#live().hasStyleEncoder(setting))) return;
+    if (guard(() => this.#live().hasStyleEncoder(setting), this.#rt)) return;
     const entry = this.#source?.list.models.find((m) => m.setting === setting)?.style_encoder;
     if (!entry) return;
     await this.#fetchOnce(key, entry, setting, (bytes) => this.#live().addStyleEncoder(setting, bytes), { styleEncoder: true });
@@ -603,7 +678,7 @@ export class Stylizer {
       const { folder, onProgress } = this.#source;
       const fetchAndAdd = async () => {
         const [bytes] = await readAll(folder, [entry], onProgress, { setting, ...extra });
-        guard(() => add(bytes));
+        guard(() => add(bytes), this.#rt);
         this.#files = { ...this.#files, [key]: bytes };
       };
       // Cached bytes the engine refuses (a damaged cache): dropped and fetched again, once.
@@ -624,7 +699,7 @@ export class Stylizer {
    */
   async #withStyleEncoder(setting, run) {
     try {
-      return run();
+      return await run();
     } catch (e) {
       if (e.code !== 'STYLE_ENCODER_UNAVAILABLE' || this.#source == null) throw e;
       await this.#ensureStyleEncoder(setting);
@@ -651,12 +726,20 @@ export class Stylizer {
     if (onProgress != null && typeof onProgress !== 'function') throw codedError('BAD_REQUEST', 'onProgress must be a function');
     let engineBackend = backend;
     let fallbackReason = null;
+    let rt = CPU;
     if (backend === 'webgpu') {
-      // The package has no Burn wgpu build yet: every WebGPU request runs on the CPU, and says why.
+      // The WebGPU engine where this environment has WebGPU and it starts; the CPU otherwise, saying why.
       engineBackend = 'cpu';
-      fallbackReason = globalThis.navigator?.gpu
-        ? 'this build has no WebGPU backend'
-        : 'this build has no WebGPU backend (and this environment has no navigator.gpu)';
+      if (!globalThis.navigator?.gpu) {
+        fallbackReason = 'this environment has no WebGPU (navigator.gpu)';
+      } else {
+        try {
+          await initEngine(WEBGPU);
+          rt = WEBGPU;
+        } catch (e) {
+          fallbackReason = `the WebGPU engine did not start: ${e.message}`;
+        }
+      }
     }
     const fetched = weights == null || typeof weights === 'string' || weights instanceof URL;
     if (!fetched && (weights == null || typeof weights !== 'object')) {
@@ -688,7 +771,18 @@ export class Stylizer {
     for (const s of SETTINGS) if (bytes[s] != null && given[`${s}Style`] != null) bytes[`${s}Style`] = toBytes(given[`${s}Style`], `${s}Style`);
     let stylizer;
     try {
-      stylizer = new Stylizer(bytes, engineBackend, fallbackReason, source, settings);
+      let engine;
+      if (rt === WEBGPU) {
+        try {
+          engine = await webGpuEngine(bytes);
+        } catch (e) {
+          // No adapter, or a device that fails: the CPU, saying why (bad weights fail as they would there).
+          if (e.code !== 'BACKEND_UNAVAILABLE') throw e;
+          fallbackReason = e.message;
+          rt = CPU;
+        }
+      }
+      stylizer = new Stylizer(bytes, engineBackend, fallbackReason, source, settings, rt, engine);
     } catch (e) {
       // Cached bytes the engine refuses (a damaged cache): dropped and fetched again, once.
       if (e.code !== 'BAD_WEIGHTS' || !source?.folder.fromCache || !(await source.folder.forget())) throw e;
@@ -701,19 +795,19 @@ export class Stylizer {
 
   /** The settings this Stylizer can use: those loaded and those it fetches when first used. */
   settings() {
-    const listed = guard(() => this.#live().listed());
+    const listed = guard(() => this.#live().listed(), this.#rt);
     const fetchable = (s) => this.#source?.list.models.some((m) => m.setting === s);
     return listed.filter((s) => this.#allowed.includes(s) && (this.#files[s] != null || fetchable(s)));
   }
 
   /** The settings whose model is loaded now. */
   loadedSettings() {
-    return guard(() => this.#live().settings());
+    return guard(() => this.#live().settings(), this.#rt);
   }
 
   /** The style labels. */
   styles() {
-    return guard(() => this.#live().styles());
+    return guard(() => this.#live().styles(), this.#rt);
   }
 
   /**
@@ -724,7 +818,8 @@ export class Stylizer {
   importBvh(text, options = {}) {
     if (typeof text !== 'string') throw codedError('BAD_REQUEST', 'importBvh takes the BVH text as a string');
     const map = mapJson(options, 'importBvh');
-    return new Motion(text, map, guard(() => wasm.Motion.fromBvh(text, map)));
+    const rt = this.#rt;
+    return new Motion(text, map, guard(() => rt.mod.Motion.fromBvh(text, map), rt), rt);
   }
 
   /**
@@ -736,7 +831,7 @@ export class Stylizer {
   inspectBvh(text, options = {}) {
     if (typeof text !== 'string') throw codedError('BAD_REQUEST', 'inspectBvh takes the BVH text as a string');
     const map = mapJson(options, 'inspectBvh');
-    return JSON.parse(guard(() => wasm.inspectBvh(text, map)));
+    return JSON.parse(guard(() => CPU.mod.inspectBvh(text, map)));
   }
 
   /** @internal */
@@ -759,7 +854,8 @@ export class Stylizer {
   async stylize(content, options = {}) {
     const { unsupervised = false, samples = 1, seed = 0, rig = 'content', temperature, strength, guidance } = options;
     if (typeof unsupervised === 'boolean') await this.#ensure(unsupervised ? 'unsupervised' : 'supervised');
-    const motion = engineMotion(this.asMotion(content, 'content'));
+    await this.#revive();
+    const motion = engineMotion(this.asMotion(content, 'content'), this.#rt);
     if (rig !== 'content' && rig !== 'canonical') throw codedError('BAD_REQUEST', "rig must be 'content' or 'canonical'");
     if (typeof samples !== 'number') throw codedError('BAD_REQUEST', 'samples must be a number');
     if (typeof unsupervised !== 'boolean') throw codedError('BAD_REQUEST', 'unsupervised must be a boolean');
@@ -778,35 +874,36 @@ export class Stylizer {
     return this.#withStyleEncoder(setting, () => this.#stylizeNow(motion, options, request));
   }
 
-  /** stylize's synchronous part: one style source. */
-  #stylizeNow(motion, options, request) {
+  /** stylize with one style source. */
+  async #stylizeNow(motion, options, request) {
     const { unsupervised } = request;
+    const rt = this.#rt;
     // Supervised motion-based without a label: the reference's label is inferred and reported.
     let inferredLabel;
-    [options, inferredLabel] = this.#withInferredLabel(options, unsupervised);
-    const engine = this.#live();
-    const made = generation;
+    [options, inferredLabel] = await this.#withInferredLabel(options, unsupervised);
+    const made = rt.generation;
     const spec = styleSpec(this, options, 0);
     try {
-      const outputs = guard(() => engine.stylize(motion, spec, request).map((o) => new StylizedMotion(o)));
+      const raw = await this.#run((e) => e.stylize(motion, spec, request), (e) => e.stylizeAsync(motion, spec, request));
+      const outputs = raw.map((o) => new StylizedMotion(o, rt));
       if (inferredLabel !== undefined) for (const o of outputs) o.inferredLabel = inferredLabel;
       return outputs;
     } finally {
-      release(spec, made);
+      release(spec, made, rt);
     }
   }
 
   /** `source` with the reference's label inferred where the supervised model needs one: [source, the label inferred or undefined]. */
-  #withInferredLabel(source, unsupervised) {
+  async #withInferredLabel(source, unsupervised) {
     if (source.styleMotion == null || unsupervised || source.label != null || source.mix != null) return [source, undefined];
     // Imported once (BVH text is not parsed again for the style).
     const reference = this.asMotion(source.styleMotion, 'styleMotion');
-    const label = this.#inferLabelNow(reference);
+    const label = await this.#inferLabelNow(reference);
     return [{ ...source, styleMotion: reference, label }, label];
   }
 
   /** stylize with `parts`: a style per body part, the options' own style for the parts not named. */
-  #stylizeParts(motion, options, request) {
+  async #stylizeParts(motion, options, request) {
     const { parts } = options;
     if (typeof parts !== 'object' || Array.isArray(parts)) {
       throw codedError('BAD_REQUEST', "parts must be an object { lower?, upper?, head? } of style sources or 'content'");
@@ -816,27 +913,35 @@ export class Stylizer {
     const hasMain = ['label', 'styleMotion', 'prior', 'mix'].some((k) => options[k] != null && options[k] !== false);
     const inferredLabels = {};
     let main; // the options' own source, its label inferred once for every part that takes it
-    const sources = BODY_PARTS.map((part) => {
+    const sources = [];
+    for (const part of BODY_PARTS) {
       const given = parts[part];
-      if (given === 'content' || (given == null && !hasMain)) return 'content';
+      if (given === 'content' || (given == null && !hasMain)) {
+        sources.push('content');
+        continue;
+      }
       if (given != null && (typeof given !== 'object' || Array.isArray(given))) {
         throw codedError('BAD_REQUEST', `parts.${part} must be a style source ({ label }, { styleMotion }, { prior: true }, { mix }) or 'content'`);
       }
-      if (given == null) main ??= this.#withInferredLabel(options, request.unsupervised);
-      const [source, inferred] = given == null ? main : this.#withInferredLabel(given, request.unsupervised);
+      if (given == null) main ??= await this.#withInferredLabel(options, request.unsupervised);
+      const [source, inferred] = given == null ? main : await this.#withInferredLabel(given, request.unsupervised);
       if (inferred !== undefined) inferredLabels[part] = inferred;
-      return source;
-    });
-    const engine = this.#live();
-    const made = generation;
+      sources.push(source);
+    }
+    const rt = this.#rt;
+    const made = rt.generation;
     const specs = [];
     try {
-      for (const s of sources) specs.push(s === 'content' ? guard(() => wasm.StyleSpec.content()) : styleSpec(this, s, 0));
-      const outputs = guard(() => engine.stylizeParts(motion, specs[0], specs[1], specs[2], request).map((o) => new StylizedMotion(o)));
+      for (const s of sources) specs.push(s === 'content' ? guard(() => rt.mod.StyleSpec.content(), rt) : styleSpec(this, s, 0));
+      const raw = await this.#run(
+        (e) => e.stylizeParts(motion, specs[0], specs[1], specs[2], request),
+        (e) => e.stylizePartsAsync(motion, specs[0], specs[1], specs[2], request),
+      );
+      const outputs = raw.map((o) => new StylizedMotion(o, rt));
       if (Object.keys(inferredLabels).length) for (const o of outputs) o.inferredLabels = inferredLabels;
       return outputs;
     } finally {
-      for (const s of specs) release(s, made);
+      for (const s of specs) release(s, made, rt);
     }
   }
 
@@ -852,15 +957,16 @@ export class Stylizer {
     return this.#withStyleEncoder('supervised', () => this.#inferLabelNow(motion));
   }
 
-  /** inferLabel's synchronous part (STYLE_ENCODER_UNAVAILABLE where the style encoder is not loaded). */
-  #inferLabelNow(reference) {
-    const motion = engineMotion(this.asMotion(reference, 'reference'));
-    return guard(() => this.#live().inferLabel(motion));
+  /** inferLabel on the engine (STYLE_ENCODER_UNAVAILABLE where the style encoder is not loaded). */
+  async #inferLabelNow(reference) {
+    await this.#revive();
+    const motion = engineMotion(this.asMotion(reference, 'reference'), this.#rt);
+    return this.#run((e) => e.inferLabel(motion), (e) => e.inferLabelAsync(motion));
   }
 
   /** Releases the engine's memory now rather than when garbage-collected (a later call loads the kept weights again). */
   free() {
-    if (this.#engine != null) release(this.#engine, this.#made);
+    if (this.#engine != null) release(this.#engine, this.#made, this.#rt);
     this.#engine = null;
   }
 
@@ -870,7 +976,7 @@ export class Stylizer {
    */
   __panicForTests() {
     const engine = this.#live();
-    return guard(() => engine.__panicForTests());
+    return guard(() => engine.__panicForTests(), this.#rt);
   }
 }
 

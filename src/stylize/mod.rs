@@ -71,9 +71,12 @@ pub mod source;
 pub mod weights;
 
 pub use error::StylizeError;
-pub use parts::{BodyPart, PartRequests, stylize_parts};
 pub use manifest::{LabelCodes, Manifest, ModelEntry, StageRecord};
-pub use pipeline::{MAX_FRAMES, infer_label, pad_features, padded_frames, style_code_of, stylize};
+pub use parts::{BodyPart, PartRequests, stylize_parts, stylize_parts_async};
+pub use pipeline::{
+    MAX_FRAMES, infer_label, infer_label_async, pad_features, padded_frames, style_code_of, style_code_of_async,
+    stylize, stylize_async,
+};
 pub use source::{
     DEFAULT_GUIDANCE, DEFAULT_STRENGTH, DEFAULT_TEMPERATURE, MAX_GUIDANCE, MAX_MIX_DEPTH, MAX_SAMPLES, MAX_STRENGTH,
     MAX_TEMPERATURE, Request, StyleSource,

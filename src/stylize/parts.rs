@@ -2,15 +2,15 @@
 //! head (as Motion Puzzle offers), on one content.
 //!
 //! How, in a temporal-convolution model whose style code is global to the clip: each part's
-//! request is stylized on its own (the whole body, [`stylize`]), then the outputs are combined
+//! request is stylized on its own (the whole body, [`stylize`](super::stylize)), then the outputs are combined
 //! joint by joint after decoding — local rotations of each part's joints from that part's output,
 //! the root (trajectory and hips rotation) and both legs from the lower body's. Local rotations of
 //! the upper body and the head ride on the lower body's hips, so the combination is a valid pose
 //! on every frame; the lower body's output already has its feet planted (root correction and leg
-//! IK in [`stylize`]), and nothing above the hips moves a foot. A part without a request keeps the
+//! IK in [`stylize`](super::stylize)), and nothing above the hips moves a foot. A part without a request keeps the
 //! content's own motion.
 
-use super::{Request, StylizeError, Weights, stylize};
+use super::{Request, StylizeError, Weights, stylize_async};
 use crate::motion::Motion;
 use crate::skeleton::canonical::joint::*;
 
@@ -92,9 +92,18 @@ impl<'a> PartRequests<'a> {
 }
 
 /// `samples` motions with each part styled as `parts` asks (see the module doc). Errors: those of
-/// [`stylize`] for any part's request; [`StylizeError::Parts`] when no part has a request or their
+/// [`stylize`](super::stylize) for any part's request; [`StylizeError::Parts`] when no part has a request or their
 /// sample counts differ.
 pub fn stylize_parts(
+    weights: &Weights,
+    content: &Motion,
+    parts: &PartRequests<'_>,
+) -> Result<Vec<Motion>, StylizeError> {
+    super::pipeline::complete(stylize_parts_async(weights, content, parts))
+}
+
+/// [`stylize_parts`] for a device whose results are read asynchronously (WebGPU in a browser).
+pub async fn stylize_parts_async(
     weights: &Weights,
     content: &Motion,
     parts: &PartRequests<'_>,
@@ -114,7 +123,7 @@ pub fn stylize_parts(
             None => vec![content.clone(); samples],
             Some(request) => match (0..i).find(|&k| parts.get(BodyPart::ALL[k]) == Some(request)) {
                 Some(k) => outputs[k].clone(),
-                None => stylize(weights, content, request)?,
+                None => stylize_async(weights, content, request).await?,
             },
         };
         outputs.push(motions);

@@ -270,8 +270,49 @@ fn neutral_codes(weights: &Weights, model: &Model, request: &Request<'_>) -> Res
     resolver.resolve(&StyleSource::Label(normal)).map(Some)
 }
 
-fn read_back<const D: usize>(t: Tensor<D>) -> Result<Vec<f32>, StylizeError> {
-    t.try_into_vec_as::<f32>().map_err(|e| StylizeError::Model(format!("reading a tensor: {e:?}")))
+/// A tensor's values on the host. Asynchronous, the one way a browser's WebGPU device can be
+/// read; on the CPU backends (and natively on wgpu, under [`complete`]) it is ready at once.
+async fn read_back<const D: usize>(t: Tensor<D>) -> Result<Vec<f32>, StylizeError> {
+    let data = t.into_data_async().await.map_err(|e| StylizeError::Model(format!("reading a tensor: {e:?}")))?;
+    data.try_into_vec_as::<f32>().map_err(|e| StylizeError::Model(format!("reading a tensor: {e:?}")))
+}
+
+/// Runs one of the pipeline's async functions to its end, for the synchronous API. Natively the
+/// thread waits for the device (woken by it, or every millisecond where a runtime does not wake
+/// it); in wasm nothing may block, so a device that is not ready at once (WebGPU) is an error
+/// naming the async call to use instead: the CPU backends always are.
+///
+/// Written here rather than taken from an executor crate: these ten lines are all the pipeline
+/// needs (no spawning, no I/O), and the wasm build must never block.
+pub(crate) fn complete<T>(future: impl Future<Output = Result<T, StylizeError>>) -> Result<T, StylizeError> {
+    use std::task::{Context, Poll};
+    let mut future = std::pin::pin!(future);
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        struct Unpark(std::thread::Thread);
+        impl std::task::Wake for Unpark {
+            fn wake(self: std::sync::Arc<Self>) {
+                self.0.unpark();
+            }
+        }
+        let waker = std::sync::Arc::new(Unpark(std::thread::current())).into();
+        let mut cx = Context::from_waker(&waker);
+        loop {
+            match future.as_mut().poll(&mut cx) {
+                Poll::Ready(v) => return v,
+                Poll::Pending => std::thread::park_timeout(std::time::Duration::from_millis(1)),
+            }
+        }
+    }
+    #[cfg(target_arch = "wasm32")]
+    {
+        match future.as_mut().poll(&mut Context::from_waker(std::task::Waker::noop())) {
+            Poll::Ready(v) => v,
+            Poll::Pending => Err(StylizeError::Model(
+                "this device reads its results asynchronously (WebGPU): use the async call".into(),
+            )),
+        }
+    }
 }
 
 /// Stylizes `content` as `request` asks: `request.samples` motions, each as long as `content`, on
@@ -280,6 +321,16 @@ fn read_back<const D: usize>(t: Tensor<D>) -> Result<Vec<f32>, StylizeError> {
 /// Deterministic: the same weights, content and request give the same motions, bit for bit.
 /// Errors: see [`StylizeError`]; nothing panics on any motion or request.
 pub fn stylize(weights: &Weights, content: &Motion, request: &Request<'_>) -> Result<Vec<Motion>, StylizeError> {
+    complete(stylize_async(weights, content, request))
+}
+
+/// [`stylize`] for a device whose results are read asynchronously (WebGPU in a browser); the
+/// same motions, bit for bit, on the same device.
+pub async fn stylize_async(
+    weights: &Weights,
+    content: &Motion,
+    request: &Request<'_>,
+) -> Result<Vec<Motion>, StylizeError> {
     if !(1..=MAX_SAMPLES).contains(&request.samples) {
         return Err(StylizeError::Samples { got: request.samples, max: MAX_SAMPLES });
     }
@@ -345,7 +396,7 @@ pub fn stylize(weights: &Weights, content: &Motion, request: &Request<'_>) -> Re
         };
         let latent = if strength == 1.0 { latent } else { own.clone() + (latent - own) * strength };
         let features = model.with_root(model.decode(latent)?, angular.clone().repeat_dim(0, rows))?;
-        let values = read_back(features)?;
+        let values = read_back(features).await?;
         for sample in values.chunks_exact(DIM * padded) {
             out.push(to_motion(weights, sample, padded, prepared.frames, &prepared.placement)?);
         }
@@ -386,6 +437,16 @@ pub fn style_code_of(
     motion: &Motion,
     label: Option<Style>,
 ) -> Result<Vec<f32>, StylizeError> {
+    complete(style_code_of_async(weights, setting, motion, label))
+}
+
+/// [`style_code_of`], read asynchronously.
+pub async fn style_code_of_async(
+    weights: &Weights,
+    setting: Setting,
+    motion: &Motion,
+    label: Option<Style>,
+) -> Result<Vec<f32>, StylizeError> {
     let model = weights.model(setting)?;
     let source = StyleSource::Motion { motion, label };
     validate(&source, model, 0)?;
@@ -393,7 +454,7 @@ pub fn style_code_of(
     let prepared = prepare(weights.norm(), motion, "reference", model.device())?;
     let latent = model.encode(prepared.tensor)?;
     let dist = model.style_distribution(latent, label.map(|l| vec![l]).as_deref())?;
-    read_back(dist.mean)
+    read_back(dist.mean).await
 }
 
 /// Frames of a reference the label inference looks at (its first 34 s): 16 labels × this fill
@@ -409,6 +470,11 @@ const INFER_FRAMES: usize = 1024;
 /// Returns the label and each label's error (one batch: all labels at once, at most the first
 /// [`INFER_FRAMES`] frames).
 pub fn infer_label(weights: &Weights, motion: &Motion) -> Result<(Style, Vec<f32>), StylizeError> {
+    complete(infer_label_async(weights, motion))
+}
+
+/// [`infer_label`], read asynchronously.
+pub async fn infer_label_async(weights: &Weights, motion: &Motion) -> Result<(Style, Vec<f32>), StylizeError> {
     let model = weights.model(Setting::Supervised)?;
     let n = model.config.num_styles;
     let motion = if motion.frames() > INFER_FRAMES { motion.slice(0, INFER_FRAMES) } else { motion.clone() };
@@ -422,7 +488,7 @@ pub fn infer_label(weights: &Weights, motion: &Motion) -> Result<(Style, Vec<f32
     let decoded = model.decode(model.generate_with(content.repeat_dim(0, n), dist.mean, Some(rows))?)?;
     let target = channels(prepared.tensor, 0..MODEL_DIM).narrow(2, 0, frames).repeat_dim(0, n);
     let error = (channels(decoded, 0..MODEL_DIM).narrow(2, 0, frames) - target).abs().mean_dim(2).mean_dim(1);
-    let errors = read_back(error)?;
+    let errors = read_back(error).await?;
     let best = errors
         .iter()
         .enumerate()

@@ -1,5 +1,7 @@
 //! [`Engine`]: the loaded weights on a CPU backend, and the one call that stylizes.
 
+use std::rc::Rc;
+
 use burn::prelude::Device;
 use wasm_bindgen::prelude::*;
 
@@ -27,7 +29,8 @@ pub fn weight_file_list(manifest: &[u8]) -> Result<String, JsValue> {
 /// The trained models, ready to stylize.
 #[wasm_bindgen]
 pub struct Engine {
-    weights: Weights,
+    /// Shared with the async calls in flight (WebGPU): adding a model while one runs is refused.
+    weights: Rc<Weights>,
     backend: &'static str,
 }
 
@@ -68,7 +71,40 @@ impl Engine {
             ..Default::default()
         };
         let weights = Weights::from_files_on(&device, files).map_err(|e| stylize_error(&e))?;
-        Ok(Engine { weights, backend })
+        Ok(Engine { weights: Rc::new(weights), backend })
+    }
+
+    /// As the constructor, on the browser's WebGPU device (the build with the cargo feature
+    /// `webgpu`): resolves to the engine once the device is up and a test product has been read
+    /// back from it. Only the async calls (`stylizeAsync`, `stylizePartsAsync`, `inferLabelAsync`)
+    /// read from it. Rejects with `BACKEND_UNAVAILABLE` (no `navigator.gpu`, no adapter, the
+    /// device fails, or this build has no WebGPU backend) or `BAD_WEIGHTS`.
+    #[wasm_bindgen(js_name = createWebGpu)]
+    pub async fn create_webgpu(
+        manifest: Vec<u8>,
+        norm: Vec<u8>,
+        shared: Option<Vec<u8>>,
+        supervised: Option<Vec<u8>>,
+        unsupervised: Option<Vec<u8>>,
+    ) -> Result<Engine, JsValue> {
+        panic::install();
+        let device = super::webgpu::device().await?;
+        let files = WeightFiles {
+            manifest: &manifest,
+            norm: &norm,
+            shared: shared.as_deref(),
+            supervised: supervised.as_deref(),
+            unsupervised: unsupervised.as_deref(),
+            ..Default::default()
+        };
+        let weights = Weights::from_files_on(&device, files).map_err(|e| stylize_error(&e))?;
+        Ok(Engine { weights: Rc::new(weights), backend: "webgpu" })
+    }
+
+    /// The weights to change: refused while an async stylization holds them.
+    fn weights_mut(&mut self) -> Result<&mut Weights, JsValue> {
+        Rc::get_mut(&mut self.weights)
+            .ok_or_else(|| js_error("BUSY", "a stylization is running on this engine: wait for it, then add the model"))
     }
 
     /// Adds the model of `setting` (`"supervised"`, `"unsupervised"`) from its file's bytes, next
@@ -78,7 +114,7 @@ impl Engine {
     pub fn add_setting(&mut self, setting: &str, bytes: &[u8]) -> Result<(), JsValue> {
         let setting =
             Setting::from_name(setting).ok_or_else(|| bad_request(&format!("unknown setting {setting:?}")))?;
-        self.weights.add_setting(setting, bytes).map_err(|e| stylize_error(&e))
+        self.weights_mut()?.add_setting(setting, bytes).map_err(|e| stylize_error(&e))
     }
 
     /// Adds the style encoder of `setting` from its file's bytes (format 3: the manifest's
@@ -90,7 +126,7 @@ impl Engine {
     pub fn add_style_encoder(&mut self, setting: &str, bytes: &[u8]) -> Result<(), JsValue> {
         let setting =
             Setting::from_name(setting).ok_or_else(|| bad_request(&format!("unknown setting {setting:?}")))?;
-        self.weights.add_style_encoder(setting, bytes).map_err(|e| stylize_error(&e))
+        self.weights_mut()?.add_style_encoder(setting, bytes).map_err(|e| stylize_error(&e))
     }
 
     /// Whether the model of `setting` is loaded with its style encoder.
@@ -139,18 +175,27 @@ impl Engine {
         let source = style.source(&self.weights).map_err(|e| stylize_error(&e))?;
         let request = request_of(source, &options);
         let motions = stylize::stylize(&self.weights, &content.motion, &request).map_err(|e| stylize_error(&e))?;
-        Ok(self.outputs(content, &motions, options.canonical))
+        Ok(outputs(&content.rig, &motions, options.canonical))
     }
 
-    /// Canonical motions as results, on the canonical rig or the content's own.
-    fn outputs(&self, content: &ImportedMotion, motions: &[Motion], canonical: bool) -> Vec<StylizedMotion> {
-        motions
-            .iter()
-            .map(|m| match canonical {
-                true => StylizedMotion::new(m.to_bvh(), GltfOptions::canonical()),
-                false => StylizedMotion::new(content.rig.from_canonical(m), GltfOptions::for_rig(content.rig.report())),
-            })
-            .collect()
+    /// [`Engine::stylize`] as a Promise of the results' array, read asynchronously: the one way
+    /// to stylize on WebGPU (on the CPU it gives the same results as `stylize`).
+    #[wasm_bindgen(js_name = stylizeAsync)]
+    pub fn stylize_async(
+        &self,
+        content: &ImportedMotion,
+        style: &StyleSpec,
+        options: JsValue,
+    ) -> Result<js_sys::Promise, JsValue> {
+        let options = StylizeOptions::from_js(&options)?;
+        let (weights, style) = (Rc::clone(&self.weights), style.clone());
+        let (motion, rig) = (Rc::clone(&content.motion), Rc::clone(&content.rig));
+        Ok(wasm_bindgen_futures::future_to_promise(async move {
+            let source = style.source(&weights).map_err(|e| stylize_error(&e))?;
+            let request = request_of(source, &options);
+            let motions = stylize::stylize_async(&weights, &motion, &request).await.map_err(|e| stylize_error(&e))?;
+            Ok(results(outputs(&rig, &motions, options.canonical)))
+        }))
     }
 
     /// Stylizes `content` with a style per body part ([`stylize::stylize_parts`]): `lower` (the
@@ -178,7 +223,37 @@ impl Engine {
             parts.set(part, request_of(source, &options));
         }
         let motions = stylize::stylize_parts(&self.weights, &content.motion, &parts).map_err(|e| stylize_error(&e))?;
-        Ok(self.outputs(content, &motions, options.canonical))
+        Ok(outputs(&content.rig, &motions, options.canonical))
+    }
+
+    /// [`Engine::stylize_parts`] as a Promise of the results' array, read asynchronously.
+    #[wasm_bindgen(js_name = stylizePartsAsync)]
+    pub fn stylize_parts_async(
+        &self,
+        content: &ImportedMotion,
+        lower: &StyleSpec,
+        upper: &StyleSpec,
+        head: &StyleSpec,
+        options: JsValue,
+    ) -> Result<js_sys::Promise, JsValue> {
+        let options = StylizeOptions::from_js(&options)?;
+        let specs =
+            [(BodyPart::Lower, lower.clone()), (BodyPart::Upper, upper.clone()), (BodyPart::Head, head.clone())];
+        let weights = Rc::clone(&self.weights);
+        let (motion, rig) = (Rc::clone(&content.motion), Rc::clone(&content.rig));
+        Ok(wasm_bindgen_futures::future_to_promise(async move {
+            let mut parts = PartRequests::default();
+            for (part, spec) in &specs {
+                if spec.is_content() {
+                    continue;
+                }
+                let source = spec.source(&weights).map_err(|e| stylize_error(&e))?;
+                parts.set(*part, request_of(source, &options));
+            }
+            let motions =
+                stylize::stylize_parts_async(&weights, &motion, &parts).await.map_err(|e| stylize_error(&e))?;
+            Ok(results(outputs(&rig, &motions, options.canonical)))
+        }))
     }
 
     /// The supervised model's label for a reference motion given without one
@@ -190,6 +265,16 @@ impl Engine {
         Ok(self.weights.style_name(style).unwrap_or_default().to_string())
     }
 
+    /// [`Engine::infer_label`] as a Promise of the label's name, read asynchronously.
+    #[wasm_bindgen(js_name = inferLabelAsync)]
+    pub fn infer_label_async(&self, reference: &ImportedMotion) -> js_sys::Promise {
+        let (weights, motion) = (Rc::clone(&self.weights), Rc::clone(&reference.motion));
+        wasm_bindgen_futures::future_to_promise(async move {
+            let (style, _) = stylize::infer_label_async(&weights, &motion).await.map_err(|e| stylize_error(&e))?;
+            Ok(JsValue::from_str(weights.style_name(style).unwrap_or_default()))
+        })
+    }
+
     /// Internal, for the tests of the panic backstop only (not part of the package's API):
     /// panics on purpose, which traps the instance. The JS wrapper must then report `INTERNAL`
     /// with this panic's message and carry on with a fresh instance (`tests/npm/api.test.mjs`).
@@ -198,6 +283,22 @@ impl Engine {
     pub fn panic_for_tests(&self) {
         panic!("a deliberate panic for the tests (Engine.__panicForTests)");
     }
+}
+
+/// Canonical motions as results, on the canonical rig or the content's own (`rig`).
+fn outputs(rig: &crate::skeleton::UserRig, motions: &[Motion], canonical: bool) -> Vec<StylizedMotion> {
+    motions
+        .iter()
+        .map(|m| match canonical {
+            true => StylizedMotion::new(m.to_bvh(), GltfOptions::canonical()),
+            false => StylizedMotion::new(rig.from_canonical(m), GltfOptions::for_rig(rig.report())),
+        })
+        .collect()
+}
+
+/// Results as the JS array an async call resolves to.
+fn results(outputs: Vec<StylizedMotion>) -> JsValue {
+    outputs.into_iter().map(JsValue::from).collect::<js_sys::Array>().into()
 }
 
 /// The pipeline's request for `source` with the JS options (model, samples, seed, temperature,

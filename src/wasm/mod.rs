@@ -6,7 +6,8 @@
 //! - [`ImportedMotion`] (JS `Motion`): a BVH imported onto the canonical rig, with the rig to take
 //!   outputs back, and the parsed file itself (its own joint positions, for drawing it).
 //! - [`StyleSpec`]: where the style comes from (label, reference motion, prior, mix of two).
-//! - [`Engine`]: the loaded weights; [`Engine::stylize`] gives one [`StylizedMotion`] per sample.
+//! - [`Engine`]: the loaded weights; [`Engine::stylize`] gives one [`StylizedMotion`] per sample
+//!   (and `stylizeAsync`, the one call a WebGPU engine, [`Engine::create_webgpu`], answers).
 //! - [`StylizedMotion`]: a motion on the canonical or the content's rig: BVH text, joint
 //!   positions, skeleton names and parents.
 //!
@@ -24,6 +25,7 @@ mod options;
 pub mod panic;
 mod style;
 mod stylized;
+mod webgpu;
 
 pub use engine::{Engine, weight_file_list};
 pub use motion::{ImportedMotion, inspect_bvh};

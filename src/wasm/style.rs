@@ -30,6 +30,7 @@ enum Node {
 /// Where the style comes from: a label, a reference motion (with its label for the supervised
 /// model), the prior, or a mix `(1 − t)·a + t·b` of two of them.
 #[wasm_bindgen]
+#[derive(Clone)]
 pub struct StyleSpec {
     node: Rc<Node>,
     /// Nesting of mixes (0 for a plain source), capped at [`MAX_MIX_DEPTH`] when built so that
