@@ -68,9 +68,11 @@ www: pkg
 serve-www: www
 	node scripts/serve-www.mjs out/www --port $(WWW_PORT)
 
-## test-www: the browser demo end to end in headless Chromium (Debian's chromium: scripts/setup-browser.sh; playwright-core)
+## test-www: the browser demo end to end in headless Chromium (Debian's chromium: scripts/setup-browser.sh; playwright-core),
+## and the WebGPU engine on Chromium's software adapter (its Vulkan needs Mesa's drivers: scripts/setup-gpu.sh)
 test-www: www
 	scripts/setup-browser.sh >/dev/null
+	scripts/setup-gpu.sh
 	cd tests/www && npm ci --no-audit --no-fund
 	node --test tests/www/
 

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds pkg/, the npm package `motion-stylizer`: the crate compiled to wasm32-unknown-unknown
-# (feature `wasm`, Burn flex with wasm SIMD: see .cargo/config.toml), wasm-bindgen --target web
+# (feature `wasm`, Burn flex with wasm SIMD: see .cargo/config.toml; and again with `wgpu`, the
+# WebGPU engine), wasm-bindgen --target web
 # (Node ESM, browsers and Web Workers without a bundler), the JS wrapper and types from js/, and
 # the shipped weights from assets/weights/.
 #
@@ -21,6 +22,18 @@ mkdir -p "$out/weights"
 # replaces an instance that trapped (the panic backstop, js/index.js) by a fresh one.
 wasm-bindgen --target web --experimental-reset-state-function --out-dir "$out" --out-name engine \
   "$target_dir/wasm32-unknown-unknown/release/motion_stylizer.wasm"
+# The WebGPU engine (issue 16): the same crate with Burn's wgpu runtime (feature `wgpu` on
+# wasm32: WebGPU through navigator.gpu), a second wasm file the JS imports only for
+# `backend: 'webgpu'`. Its own target folder: the two feature sets' Burn builds stay side by side.
+# WEBGPU=0 leaves it out (the package then falls back to the CPU, saying so). Without its name
+# section (6.6 of 35 MB: wgpu, naga and CubeCL's kernels); 28.6 MB, 4.5 MB gzipped (bench/README.md).
+if [[ "${WEBGPU:-1}" != 0 ]]; then
+  gpu_target=${WEBGPU_TARGET_DIR:-$target_dir/webgpu}
+  cargo build --release --lib --target wasm32-unknown-unknown --no-default-features --features "$features,wgpu" \
+    --target-dir "$gpu_target"
+  wasm-bindgen --target web --experimental-reset-state-function --remove-name-section --out-dir "$out" --out-name engine-webgpu \
+    "$gpu_target/wasm32-unknown-unknown/release/motion_stylizer.wasm"
+fi
 rm -f "$out/.gitignore"
 cp js/index.js js/index.d.ts js/README.md "$out/"
 cp LICENSE* "$out/" 2>/dev/null || true

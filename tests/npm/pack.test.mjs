@@ -22,7 +22,9 @@ test('npm pack installs into an empty folder and a 5-line script stylizes a BVH'
     `${(info.unpackedSize / 1e6).toFixed(2)} MB unpacked, ${info.entryCount} files`);
   assert.ok(info.files.some((f) => f.path === 'weights/shared.bin'), 'the shared networks');
   // Issue 17's budget: not met by the shipped f16 weights (17.7 MB), nor by the compact encoding
-  // measured (8.7 MB; EVALUATION.md, "Compact weights"). A todo, not hidden.
+  // measured (8.7 MB; EVALUATION.md, "Compact weights"). A todo, not hidden. Since issue 16 the
+  // tarball also holds the WebGPU engine (engine-webgpu_bg.wasm, 4.5 MB gzipped), which a browser
+  // fetches only for backend 'webgpu'.
   await t.test('the tarball within 8 MB', { todo: 'f16 weights (EVALUATION.md, "Compact weights")' }, () => {
     assert.ok(statSync(tarball).size <= 8e6, `${(statSync(tarball).size / 1e6).toFixed(2)} MB`);
   });

@@ -425,9 +425,11 @@ async function loadEngine(backend, weights = { settings: state.custom?.settings 
     state.timings.load = { ...info, roundTripMs: performance.now() - t0 };
     const gpu = 'gpu' in navigator ? 'this browser has WebGPU' : 'this browser has no WebGPU';
     el('backend-info').textContent =
-      backend === 'webgpu'
-        ? `Running on the ${info.backend.toUpperCase()} — WebGPU fallback: ${info.fallbackReason ?? 'none'} (${gpu}).`
-        : `Running on the ${info.backend.toUpperCase()} (Burn flex, wasm SIMD, in a worker); model ready in ${Math.round(info.totalMs)} ms.`;
+      info.backend === 'webgpu'
+        ? `Running on WebGPU (Burn wgpu, in a worker); model ready in ${Math.round(info.totalMs)} ms.`
+        : backend === 'webgpu'
+          ? `Running on the ${info.backend.toUpperCase()} — WebGPU fallback: ${info.fallbackReason ?? 'none'} (${gpu}).`
+          : `Running on the ${info.backend.toUpperCase()} (Burn flex, wasm SIMD, in a worker); model ready in ${Math.round(info.totalMs)} ms.`;
     showError(null);
     return info;
   } catch (e) {
