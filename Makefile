@@ -31,7 +31,7 @@ demo:
 	node scripts/serve-www.mjs out/www --port $(WWW_PORT)
 
 ## test: every test — Rust unit/integration tests, then the three.js compatibility check in Node, then the wasm package
-test: test-rust test-js test-wasm test-www
+test: test-rust test-js test-wasm test-www test-gpu
 
 test-rust:
 	$(CARGO) test --release
@@ -122,7 +122,7 @@ bench-train:
 
 ## setup-gpu: a Vulkan driver for the wgpu device (Mesa's lavapipe when none is installed; idempotent)
 ## test-gpu: the wgpu device against the CPU (tests/device_wgpu.rs: the shipped weights' stylization, training steps);
-## not part of `make test`: the test takes 14 s on lavapipe, but the `wgpu` feature is a second build of Burn (27 min here)
+## part of `make test` (issue 16): 34 s on lavapipe, after a second native build of Burn with `wgpu` (13 min here)
 ## bench-gpu: training steps (width 0.5, 1) and 160-frame stylizations (1, 10 samples) on wgpu and on the CPU
 .PHONY: setup-gpu test-gpu bench-gpu
 setup-gpu:
