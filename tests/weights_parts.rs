@@ -44,7 +44,7 @@ fn write_format1_dir() -> PathBuf {
 }
 
 fn encodings(shared: &str, stylizer: &str) -> Encodings {
-    Encodings { shared: PartEncoding::parse(shared).unwrap(), stylizer: PartEncoding::parse(stylizer).unwrap() }
+    Encodings::new(PartEncoding::parse(shared).unwrap(), PartEncoding::parse(stylizer).unwrap())
 }
 
 fn read(dir: &Path, name: &str) -> Vec<u8> {
@@ -340,4 +340,20 @@ fn integer_encodings_stay_within_their_step_and_f16_is_exact_to_f16() {
     for bad in ["q3", "q9", "int8", "q4g0", "q8,x", "", "q16"] {
         assert!(PartEncoding::parse(bad).is_none(), "{bad}");
     }
+}
+
+#[test]
+fn each_setting_can_have_its_own_encoding() {
+    let dir = out_dir("parts-per-setting");
+    let mut enc = encodings("f16", "q8");
+    enc.unsupervised = PartEncoding::parse("q4g64").unwrap();
+    let manifest = repack(&format1_dir(), &dir, enc).unwrap();
+    let of = |setting: &str| manifest.models.iter().find(|m| m.setting == setting).unwrap().encoding.clone();
+    assert_eq!(of("supervised").as_deref(), Some("q8"));
+    assert_eq!(of("unsupervised").as_deref(), Some("q4g64"));
+    let (sup, unsup) = (read(&dir, "supervised.bin").len(), read(&dir, "unsupervised.bin").len());
+    assert!(unsup * 10 < sup * 7, "4 bits against 8: {unsup} vs {sup} bytes");
+    // Both load and stylize.
+    let w = Weights::load_dir(&dir).unwrap();
+    assert!(!outputs(&w).is_empty());
 }

@@ -21,7 +21,7 @@ pub struct ExportArgs {
     /// The `ae` run folder the stylizers were trained on (provenance and norm.json).
     #[arg(long, value_name = "RUN_DIR", required_unless_present = "from")]
     ae: Option<PathBuf>,
-    /// Instead of runs: an existing weights folder (format 1 or 2), written again in format 2;
+    /// Instead of runs: an existing weights folder (format 1, 2 or 3), written again in format 3;
     /// with --sup and/or --unsup, runs fine-tuned from it (`train stylizer --from`) replace its
     /// stylizers.
     #[arg(long, value_name = "WEIGHTS_DIR", conflicts_with = "ae")]
@@ -30,9 +30,14 @@ pub struct ExportArgs {
     /// channel), q4 (int4), q4g64 (int4, a scale per 64 weights of an output channel), ...
     #[arg(long, default_value = "f16", value_name = "ENCODING")]
     shared: String,
-    /// Encoding of each stylizer's large layers (as --shared).
+    /// Encoding of each stylizer's large layers (as --shared), with per path prefix another one:
+    /// `q7,style_encoder=q8g32`.
     #[arg(long, default_value = "f16", value_name = "ENCODING")]
     stylizer: String,
+    /// Encoding of the unsupervised stylizer's large layers, if not --stylizer's (a browser
+    /// fetches it apart, when first used: its own size budget).
+    #[arg(long, value_name = "ENCODING")]
+    unsupervised: Option<String>,
     /// Output folder.
     #[arg(short, long, default_value = "assets/weights", value_name = "DIR")]
     output: PathBuf,
@@ -43,7 +48,10 @@ pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
         PartEncoding::parse(spec)
             .with_context(|| format!("--{flag} {spec:?}: not an encoding (f16, q8, q4, q4g64, ...)"))
     };
-    let encodings = Encodings { shared: parse("shared", &args.shared)?, stylizer: parse("stylizer", &args.stylizer)? };
+    let mut encodings = Encodings::new(parse("shared", &args.shared)?, parse("stylizer", &args.stylizer)?);
+    if let Some(spec) = &args.unsupervised {
+        encodings.unsupervised = parse("unsupervised", spec)?;
+    }
     let manifest = match (&args.from, &args.sup, &args.unsup, &args.ae) {
         (Some(from), None, None, _) => motion_stylizer::train::export::repack(from, &args.output, encodings)?,
         (Some(from), sup, unsup, _) => {

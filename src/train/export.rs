@@ -37,13 +37,30 @@ use crate::stylize::{Setting, Weights};
 pub struct Encodings {
     /// `shared.bin` (autoencoder, regressor).
     pub shared: PartEncoding,
-    /// Each stylizer's file.
-    pub stylizer: PartEncoding,
+    /// The supervised stylizer's files.
+    pub supervised: PartEncoding,
+    /// The unsupervised stylizer's files (fetched apart in a browser, so its budget is its own).
+    pub unsupervised: PartEncoding,
+}
+
+impl Encodings {
+    /// `shared` for `shared.bin`, `stylizer` for both stylizers' files.
+    pub fn new(shared: PartEncoding, stylizer: PartEncoding) -> Encodings {
+        Encodings { shared, supervised: stylizer.clone(), unsupervised: stylizer }
+    }
+
+    /// The encoding of a setting's files.
+    pub fn stylizer(&self, setting: Setting) -> &PartEncoding {
+        match setting {
+            Setting::Supervised => &self.supervised,
+            Setting::Unsupervised => &self.unsupervised,
+        }
+    }
 }
 
 impl Default for Encodings {
     fn default() -> Self {
-        Encodings { shared: PartEncoding::F16, stylizer: PartEncoding::F16 }
+        Encodings::new(PartEncoding::F16, PartEncoding::F16)
     }
 }
 
@@ -193,8 +210,8 @@ pub fn export_runs(
     write_folder(out, manifest, nets, encodings)
 }
 
-/// `motion-stylizer export --from DIR`: an existing weights folder (format 1 or 2) written again
-/// in format 2 with `encodings`: the same provenance and label codes, the statistics file copied
+/// `motion-stylizer export --from DIR`: an existing weights folder (format 1, 2 or 3) written
+/// again in format 3 with `encodings`: the same provenance and label codes, the statistics file copied
 /// byte for byte, one shared file for the networks both settings carry (they must be the same
 /// numbers; if not, the supervised model's are shared, with a warning).
 pub fn repack(from: &Path, out: &Path, encodings: Encodings) -> anyhow::Result<Manifest> {
@@ -330,16 +347,19 @@ fn write_folder(
     // only for reference motions, so a browser fetches it when one is first used).
     for ((config, model), entry) in nets.into_iter().zip(manifest.models.iter_mut()) {
         let (core, style) = model.stylizer.split();
+        let setting =
+            Setting::from_name(&entry.setting).with_context(|| format!("unknown setting {:?}", entry.setting))?;
+        let encoding = encodings.stylizer(setting);
         let file = format!("{}.bin", entry.setting);
-        let bytes = save_part(PartKind::StylizerCore, &config, core, &encodings.stylizer)?;
+        let bytes = save_part(PartKind::StylizerCore, &config, core, encoding)?;
         rundir::write_atomic(&out.join(&file), &bytes)?;
         let r = file_ref(&file, &bytes);
         entry.file = r.file;
         entry.bytes = Some(r.bytes);
         entry.fnv1a64 = Some(r.fnv1a64);
-        entry.encoding = Some(encodings.stylizer.name());
+        entry.encoding = Some(encoding.name());
         let file = format!("{}-style.bin", entry.setting);
-        let bytes = save_part(PartKind::StyleEncoder, &config, style, &encodings.stylizer)?;
+        let bytes = save_part(PartKind::StyleEncoder, &config, style, encoding)?;
         rundir::write_atomic(&out.join(&file), &bytes)?;
         entry.style_encoder = Some(file_ref(&file, &bytes));
     }
