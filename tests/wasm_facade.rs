@@ -531,7 +531,9 @@ fn hostile_inputs_give_results_or_codes_never_a_trap() {
 }
 
 /// Regression: the ndarray backend used to panic (a wasm trap: `Unsupported dtype F16` in
-/// burn-ndarray) when loading the f16 weights; the bundles are now read on flex and moved.
+/// burn-ndarray) when loading the f16 weights; the bundles are now read on flex and moved. (The
+/// shipped weights' large layers are 8-bit since 2026-12-04; their biases, norms and small layers
+/// are still f16, and all of it is dequantised to f32 on flex first.)
 /// Runs when built with the ndarray backend (`make test-wasm` does: `--features model,wasm,ndarray`).
 #[cfg(feature = "ndarray")]
 #[wasm_bindgen_test]

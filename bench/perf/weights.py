@@ -127,21 +127,72 @@ def _unframe(data, magic, path, what):
     return json.loads(data[12:12 + n]), memoryview(data)[12 + n:]
 
 
+def _decode_int(raw, shape, bits, group, where):
+    """float32 values of an integer-encoded tensor, as `src/model/parts.rs` `decode_tensor`
+    dequantises them (the same f32 product int × f16 scale, so the same bits): the tensor seen as
+    `rows` output channels of `length` weights (rank 2 `[in, out]`: the columns; otherwise the
+    first axis), one f16 scale per `group` weights of a channel (0: the whole channel), then the
+    integers channel by channel (4 bits: two a byte, low nibble first; 5 to 8: a signed byte each)."""
+    count = int(np.prod(shape, dtype=np.int64))
+    rows = shape[1] if len(shape) == 2 else (shape[0] if shape else 1)
+    length = count // max(rows, 1)
+    group = length if group == 0 else min(group, length)
+    group = max(group, 1)
+    groups = -(-length // group)
+    n_scales = rows * groups
+    n_ints = -(-count // 2) if bits == 4 else count
+    if len(raw) != 2 * n_scales + n_ints:
+        raise ValueError(f"{where}: {len(raw)} bytes for shape {shape} in q{bits}g{group}")
+    scales = np.frombuffer(raw, dtype="<f2", count=n_scales).astype(np.float32).reshape(rows, groups)
+    body = np.frombuffer(raw, dtype=np.uint8, offset=2 * n_scales)
+    if bits == 4:
+        nibbles = np.stack([body & 0x0F, body >> 4], axis=1).reshape(-1)[:count].astype(np.int16)
+        ints = np.where(nibbles >= 8, nibbles - 16, nibbles).astype(np.float32)
+    else:
+        ints = body.view(np.int8).astype(np.float32)
+    ints = ints.reshape(rows, length)
+    per_weight = np.repeat(scales, group, axis=1)[:, :length]
+    values = (ints * per_weight).astype(np.float32)
+    if len(shape) == 2:
+        return values.T.reshape(shape)
+    return values.reshape(shape)
+
+
+def _parse_encoding(spec, where):
+    """(bits, group) of a tensor's header encoding, None for f16: `"f16"` or
+    `{"int": {"bits": B, "group": G}}` (serde's form of `TensorEncoding`)."""
+    if spec == "f16":
+        return None
+    try:
+        bits, group = int(spec["int"]["bits"]), int(spec["int"]["group"])
+    except (TypeError, KeyError, ValueError):
+        raise ValueError(f"{where}: unknown encoding {spec!r}") from None
+    if not 4 <= bits <= 8 or group < 0:
+        raise ValueError(f"{where}: unknown encoding {spec!r}")
+    return bits, group
+
+
 def read_part(path):
-    """(header dict, {parameter path: float32 array}) of a format-2 part file (f16 tensors; the
-    int encodings are not read here: the benchmark runs the shipped f16 weights)."""
+    """(header dict, {parameter path: float32 array}) of a part file (format 2 or 3): f16 tensors,
+    or integers with f16 scales dequantised exactly as ours are."""
     with open(path, "rb") as f:
         data = f.read()
     header, payload = _unframe(data, PART_MAGIC, path, "a motion-stylizer weights part")
     out = {}
     for t in header["tensors"]:
-        if t["encoding"] != "f16":
-            raise ValueError(f"{path}: {t['path']}: encoding {t['encoding']!r} (only f16 is read here)")
+        where = f"{path}: {t['path']}"
         count = int(np.prod(t["shape"], dtype=np.int64))
-        if t["len"] != 2 * count or t["offset"] + t["len"] > len(payload):
-            raise ValueError(f"{path}: {t['path']}: {t['len']} bytes for shape {t['shape']}")
-        arr = np.frombuffer(payload, dtype="<f2", count=count, offset=t["offset"])
-        out[t["path"]] = arr.reshape(t["shape"]).astype(np.float32)
+        if t["offset"] + t["len"] > len(payload):
+            raise ValueError(f"{where}: {t['len']} bytes past the end")
+        enc = _parse_encoding(t["encoding"], where)
+        if enc is None:
+            if t["len"] != 2 * count:
+                raise ValueError(f"{where}: {t['len']} bytes for shape {t['shape']}")
+            arr = np.frombuffer(payload, dtype="<f2", count=count, offset=t["offset"])
+            out[t["path"]] = arr.reshape(t["shape"]).astype(np.float32)
+        else:
+            raw = payload[t["offset"]:t["offset"] + t["len"]]
+            out[t["path"]] = _decode_int(raw, list(t["shape"]), enc[0], enc[1], where)
     return header, out
 
 
