@@ -272,7 +272,8 @@ fn a_malformed_labels_csv_is_refused_with_its_line() {
 /// `train stylizer --from WEIGHTS --style-stats W --content-shape W` without an `ae` run (the
 /// weights' autoencoder),
 /// then `export --from WEIGHTS --sup RUN`: the fine-tuned stylizer replaces the folder's, the
-/// shared networks and the other model are written again unchanged.
+/// shared networks and the other model are written again unchanged (byte for byte: the folder's
+/// encodings are kept, and re-encoding dequantised weights in their own encoding is exact).
 #[test]
 fn a_stylizer_fine_tuned_with_the_style_statistics_loss_replaces_the_weights_stylizer() {
     let root = fresh("style-stats");
@@ -319,6 +320,9 @@ fn a_stylizer_fine_tuned_with_the_style_statistics_loss_replaces_the_weights_sty
     assert_eq!(sup.setting, "supervised");
     assert_eq!(sup.stages.len(), old_sup.stages.len() + 1, "the fine-tune is one more stage");
     assert!(sup.label_codes.is_none(), "new networks need new label codes");
+    // No encoding flags: the folder's own encodings are kept (the shipped weights are 8-bit).
+    assert_eq!(sup.encoding, old_sup.encoding, "the fine-tuned stylizer is written in the folder's encoding");
+    assert_eq!(manifest.shared.as_ref().map(|s| &s.encoding), old.shared.as_ref().map(|s| &s.encoding));
     // Fine-tuning with the paper's losses on an `ae` run of other weights is refused by export.
     let other = root.join("other");
     let mut args = vec!["train", "stylizer", "--data", p(&data), "--out", p(&other)];

@@ -7,6 +7,7 @@ use anyhow::Context;
 use clap::Args;
 use motion_stylizer::model::weights::PartEncoding;
 use motion_stylizer::stylize::Setting;
+use motion_stylizer::stylize::manifest::Manifest;
 use motion_stylizer::train::export::Encodings;
 use std::path::PathBuf;
 
@@ -28,12 +29,13 @@ pub struct ExportArgs {
     from: Option<PathBuf>,
     /// Encoding of the shared networks' large layers: f16, q8 (int8, a scale per output
     /// channel), q4 (int4), q4g64 (int4, a scale per 64 weights of an output channel), ...
-    #[arg(long, default_value = "f16", value_name = "ENCODING")]
-    shared: String,
+    /// Default: with --from, the folder's own; otherwise f16.
+    #[arg(long, value_name = "ENCODING")]
+    shared: Option<String>,
     /// Encoding of each stylizer's large layers (as --shared), with per path prefix another one:
-    /// `q7,style_encoder=q8g32`.
-    #[arg(long, default_value = "f16", value_name = "ENCODING")]
-    stylizer: String,
+    /// `q7,style_encoder=q8g32`. Default: with --from, the folder's own; otherwise f16.
+    #[arg(long, value_name = "ENCODING")]
+    stylizer: Option<String>,
     /// Encoding of the unsupervised stylizer's large layers, if not --stylizer's (a browser
     /// fetches it apart, when first used: its own size budget).
     #[arg(long, value_name = "ENCODING")]
@@ -48,7 +50,24 @@ pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
         PartEncoding::parse(spec)
             .with_context(|| format!("--{flag} {spec:?}: not an encoding (f16, q8, q4, q4g64, ...)"))
     };
-    let mut encodings = Encodings::new(parse("shared", &args.shared)?, parse("stylizer", &args.stylizer)?);
+    // Unless told otherwise, a folder keeps its encodings (a fine-tune of 8-bit weights stays
+    // 8-bit, and what it does not replace is written again as it was).
+    let mut encodings = match &args.from {
+        Some(from) => {
+            let manifest: Manifest = motion_stylizer::train::rundir::read_json(&from.join("manifest.json"))
+                .with_context(|| format!("--from {}: not a weights folder", from.display()))?;
+            Encodings::of_folder(&manifest).with_context(|| format!("--from {}", from.display()))?
+        }
+        None => Encodings::default(),
+    };
+    if let Some(spec) = &args.shared {
+        encodings.shared = parse("shared", spec)?;
+    }
+    if let Some(spec) = &args.stylizer {
+        let encoding = parse("stylizer", spec)?;
+        encodings.supervised = encoding.clone();
+        encodings.unsupervised = encoding;
+    }
     if let Some(spec) = &args.unsupervised {
         encodings.unsupervised = parse("unsupervised", spec)?;
     }

@@ -49,6 +49,28 @@ impl Encodings {
         Encodings { shared, supervised: stylizer.clone(), unsupervised: stylizer }
     }
 
+    /// The encodings a weights folder's manifest records for its files (f16 where it records
+    /// none: formats 1 and 2), so that `export --from` without encoding flags keeps them.
+    pub fn of_folder(manifest: &Manifest) -> anyhow::Result<Encodings> {
+        let parse = |what: &str, spec: Option<&str>| match spec {
+            None => Ok(PartEncoding::F16),
+            Some(spec) => PartEncoding::parse(spec)
+                .with_context(|| format!("the manifest's {what} encoding {spec:?} is not one (f16, q8, q4g64, ...)")),
+        };
+        let mut encodings =
+            Encodings::new(parse("shared", manifest.shared.as_ref().map(|s| s.encoding.as_str()))?, PartEncoding::F16);
+        for entry in &manifest.models {
+            let setting =
+                Setting::from_name(&entry.setting).with_context(|| format!("unknown setting {:?}", entry.setting))?;
+            let encoding = parse(&entry.setting, entry.encoding.as_deref())?;
+            match setting {
+                Setting::Supervised => encodings.supervised = encoding,
+                Setting::Unsupervised => encodings.unsupervised = encoding,
+            }
+        }
+        Ok(encodings)
+    }
+
     /// The encoding of a setting's files.
     pub fn stylizer(&self, setting: Setting) -> &PartEncoding {
         match setting {
