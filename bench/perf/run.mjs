@@ -58,8 +58,18 @@ writeFileSync(join(work, 'style.bvh'), clip160(fixture('dataset-2_walk_elderly_0
 const dump = join(work, 'dump');
 const onnxDir = join(work, 'onnx');
 
-const sh = (cmd, args, env = {}) =>
-  execFileSync(cmd, args, { encoding: 'utf8', env: { ...process.env, ...env }, maxBuffer: 1 << 26 });
+// Node 20's WASI now and then dies of SIGSEGV while the process exits, after the program has
+// written all of its output (seen 2026-12-04, 1 of ~10 runs): such a run is run again, at most twice,
+// and said so; any other failure stops the benchmark.
+const sh = (cmd, args, env = {}, tries = 3) => {
+  try {
+    return execFileSync(cmd, args, { encoding: 'utf8', env: { ...process.env, ...env }, maxBuffer: 1 << 26 });
+  } catch (e) {
+    if (e.signal !== 'SIGSEGV' || tries <= 1) throw e;
+    console.error(`warning: ${args[1] ?? cmd} died of SIGSEGV (exit code ${e.status}); running it again`);
+    return sh(cmd, args, env, tries - 1);
+  }
+};
 const lastJson = (text) => JSON.parse(text.trim().split('\n').at(-1));
 const native = (n, dumpDir) =>
   lastJson(sh(nativeBin, [weightsDir, join(work, 'content.bvh'), join(work, 'style.bvh'), String(n), ...(dumpDir ? [dumpDir] : [])], {

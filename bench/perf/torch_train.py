@@ -470,7 +470,15 @@ def is_norm(term):
 def compare(a, b):
     """Relative differences term by term and step by step of two runs' reports, and the largest
     ones over the loss terms and over the gradient norms."""
-    diff = {stage: [{t: rel_diff(x[t], y[t]) for t in x} for x, y in zip(a[stage], b[stage])] for stage in a}
+    # Terms only one side reports: ours has the loss terms added after the paper's (issue 14's
+    # style statistics, content shape, ...), off by default and reported as 0 then; anything else
+    # is a mismatch.
+    for stage in a:
+        for x, y in zip(a[stage], b[stage]):
+            for t in set(x) ^ set(y):
+                if (x if t in x else y)[t] != 0:
+                    raise SystemExit(f"parity: {stage}: the term {t!r} is {x.get(t)} (ours) / {y.get(t)} (PyTorch)")
+    diff = {stage: [{t: rel_diff(x[t], y[t]) for t in x if t in y} for x, y in zip(a[stage], b[stage])] for stage in a}
     worst = lambda keep: max(v for stage in diff.values() for step in stage for t, v in step.items() if keep(t))  # noqa: E731
     by_step = {
         stage: [max(v for t, v in step.items() if not is_norm(t)) for step in steps] for stage, steps in diff.items()
