@@ -12,7 +12,7 @@ use motion_stylizer::model::weights::{
 };
 use motion_stylizer::model::{MotionModel, Stylizer};
 use motion_stylizer::stylize::{self, Request, Setting, StyleSource, StylizeError, WeightFiles, Weights};
-use motion_stylizer::train::export::{Encodings, repack};
+use motion_stylizer::train::export::{EncodingChoice, Encodings, repack};
 use std::path::{Path, PathBuf};
 use stylize_support::{WALK, config, import, norm, out_dir};
 
@@ -356,4 +356,27 @@ fn each_setting_can_have_its_own_encoding() {
     // Both load and stylize.
     let w = Weights::load_dir(&dir).unwrap();
     assert!(!outputs(&w).is_empty());
+}
+
+/// `repack` with nothing chosen keeps every file's encoding, byte for byte (re-encoding the
+/// dequantised weights in their own encoding is exact); a file chosen changes alone.
+#[test]
+fn a_folder_keeps_its_encodings_unless_one_is_chosen() {
+    let mixed = out_dir("parts-keep-mixed");
+    let mut enc = encodings("q8g16", "q8,style_encoder=f16");
+    enc.unsupervised = PartEncoding::parse("q4g64").unwrap();
+    repack(&format1_dir(), &mixed, enc).unwrap();
+    let kept = out_dir("parts-keep-kept");
+    let manifest = repack(&mixed, &kept, EncodingChoice::default()).unwrap();
+    for f in ["manifest.json", "shared.bin", "supervised.bin", "supervised-style.bin", "unsupervised.bin"] {
+        assert!(read(&kept, f) == read(&mixed, f), "{f} written again unchanged");
+    }
+    assert_eq!(manifest.shared.as_ref().map(|s| s.encoding.as_str()), Some("q8g16"));
+    let one = out_dir("parts-keep-one");
+    let choice = EncodingChoice { unsupervised: PartEncoding::parse("q8"), ..EncodingChoice::default() };
+    let manifest = repack(&mixed, &one, choice).unwrap();
+    let of = |setting: &str| manifest.models.iter().find(|m| m.setting == setting).unwrap().encoding.clone();
+    assert_eq!(of("unsupervised").as_deref(), Some("q8"));
+    assert_eq!(of("supervised").as_deref(), Some("q8,style_encoder=f16"));
+    assert!(read(&one, "shared.bin") == read(&mixed, "shared.bin"));
 }

@@ -7,8 +7,7 @@ use anyhow::Context;
 use clap::Args;
 use motion_stylizer::model::weights::PartEncoding;
 use motion_stylizer::stylize::Setting;
-use motion_stylizer::stylize::manifest::Manifest;
-use motion_stylizer::train::export::Encodings;
+use motion_stylizer::train::export::{EncodingChoice, Encodings};
 use std::path::PathBuf;
 
 #[derive(Args, Debug)]
@@ -50,38 +49,22 @@ pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
         PartEncoding::parse(spec)
             .with_context(|| format!("--{flag} {spec:?}: not an encoding (f16, q8, q4, q4g64, ...)"))
     };
-    // Unless told otherwise, a folder keeps its encodings (a fine-tune of 8-bit weights stays
-    // 8-bit, and what it does not replace is written again as it was).
-    let mut encodings = match &args.from {
-        Some(from) => {
-            let manifest: Manifest = motion_stylizer::train::rundir::read_json(&from.join("manifest.json"))
-                .with_context(|| format!("--from {}: not a weights folder", from.display()))?;
-            Encodings::of_folder(&manifest).with_context(|| format!("--from {}", from.display()))?
-        }
-        None => Encodings::default(),
-    };
-    if let Some(spec) = &args.shared {
-        encodings.shared = parse("shared", spec)?;
-    }
-    if let Some(spec) = &args.stylizer {
-        let encoding = parse("stylizer", spec)?;
-        encodings.supervised = encoding.clone();
-        encodings.unsupervised = encoding;
-    }
-    if let Some(spec) = &args.unsupervised {
-        encodings.unsupervised = parse("unsupervised", spec)?;
-    }
+    let chosen = |flag: &str, spec: &Option<String>| spec.as_deref().map(|spec| parse(flag, spec)).transpose();
+    let stylizer = chosen("stylizer", &args.stylizer)?;
+    let unsupervised = chosen("unsupervised", &args.unsupervised)?.or_else(|| stylizer.clone());
+    // With --from, what is not chosen keeps the folder's encoding (`EncodingChoice`); from runs, f16.
+    let choice = EncodingChoice { shared: chosen("shared", &args.shared)?, supervised: stylizer, unsupervised };
     let manifest = match (&args.from, &args.sup, &args.unsup, &args.ae) {
-        (Some(from), None, None, _) => motion_stylizer::train::export::repack(from, &args.output, encodings)?,
+        (Some(from), None, None, _) => motion_stylizer::train::export::repack(from, &args.output, choice)?,
         (Some(from), sup, unsup, _) => {
             let runs: Vec<(Setting, &std::path::Path)> = [(Setting::Supervised, sup), (Setting::Unsupervised, unsup)]
                 .into_iter()
                 .filter_map(|(s, d)| d.as_deref().map(|d| (s, d)))
                 .collect();
-            motion_stylizer::train::export::replace_stylizers(from, &runs, &args.output, encodings)?
+            motion_stylizer::train::export::replace_stylizers(from, &runs, &args.output, choice)?
         }
         (None, Some(sup), Some(unsup), Some(ae)) => {
-            motion_stylizer::train::export::export(sup, unsup, ae, &args.output, encodings)?
+            motion_stylizer::train::export::export(sup, unsup, ae, &args.output, choice.over(Encodings::default()))?
         }
         _ => anyhow::bail!("give --sup, --unsup and --ae, or --from"),
     };

@@ -49,28 +49,6 @@ impl Encodings {
         Encodings { shared, supervised: stylizer.clone(), unsupervised: stylizer }
     }
 
-    /// The encodings a weights folder's manifest records for its files (f16 where it records
-    /// none: formats 1 and 2), so that `export --from` without encoding flags keeps them.
-    pub fn of_folder(manifest: &Manifest) -> anyhow::Result<Encodings> {
-        let parse = |what: &str, spec: Option<&str>| match spec {
-            None => Ok(PartEncoding::F16),
-            Some(spec) => PartEncoding::parse(spec)
-                .with_context(|| format!("the manifest's {what} encoding {spec:?} is not one (f16, q8, q4g64, ...)")),
-        };
-        let mut encodings =
-            Encodings::new(parse("shared", manifest.shared.as_ref().map(|s| s.encoding.as_str()))?, PartEncoding::F16);
-        for entry in &manifest.models {
-            let setting =
-                Setting::from_name(&entry.setting).with_context(|| format!("unknown setting {:?}", entry.setting))?;
-            let encoding = parse(&entry.setting, entry.encoding.as_deref())?;
-            match setting {
-                Setting::Supervised => encodings.supervised = encoding,
-                Setting::Unsupervised => encodings.unsupervised = encoding,
-            }
-        }
-        Ok(encodings)
-    }
-
     /// The encoding of a setting's files.
     pub fn stylizer(&self, setting: Setting) -> &PartEncoding {
         match setting {
@@ -83,6 +61,54 @@ impl Encodings {
 impl Default for Encodings {
     fn default() -> Self {
         Encodings::new(PartEncoding::F16, PartEncoding::F16)
+    }
+}
+
+/// The encodings asked of [`repack`] / [`replace_stylizers`]; a file not asked for keeps the
+/// encoding the source folder's manifest records for it (f16 where it records none: formats 1 and
+/// 2), so a fine-tune of 8-bit weights stays 8-bit and what it does not replace is written again
+/// as it was.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct EncodingChoice {
+    pub shared: Option<PartEncoding>,
+    pub supervised: Option<PartEncoding>,
+    pub unsupervised: Option<PartEncoding>,
+}
+
+impl From<Encodings> for EncodingChoice {
+    /// Every file in the given encoding, whatever the folder's.
+    fn from(e: Encodings) -> Self {
+        EncodingChoice { shared: Some(e.shared), supervised: Some(e.supervised), unsupervised: Some(e.unsupervised) }
+    }
+}
+
+impl EncodingChoice {
+    /// The chosen encodings, `base`'s for the files not chosen.
+    pub fn over(self, base: Encodings) -> Encodings {
+        Encodings {
+            shared: self.shared.unwrap_or(base.shared),
+            supervised: self.supervised.unwrap_or(base.supervised),
+            unsupervised: self.unsupervised.unwrap_or(base.unsupervised),
+        }
+    }
+
+    /// The encodings for a folder with `manifest`: the chosen ones, the folder's for the rest.
+    fn over_folder(self, manifest: &Manifest) -> anyhow::Result<Encodings> {
+        let recorded = |what: &str, spec: Option<&str>| match spec {
+            None => Ok(PartEncoding::F16),
+            Some(spec) => PartEncoding::parse(spec)
+                .with_context(|| format!("the manifest's {what} encoding {spec:?} is not one (f16, q8, q4g64, ...)")),
+        };
+        let model = |setting: Setting| {
+            let entry = manifest.models.iter().find(|e| e.setting == setting.as_str());
+            recorded(setting.as_str(), entry.and_then(|e| e.encoding.as_deref()))
+        };
+        let folder = Encodings {
+            shared: recorded("shared", manifest.shared.as_ref().map(|s| s.encoding.as_str()))?,
+            supervised: model(Setting::Supervised)?,
+            unsupervised: model(Setting::Unsupervised)?,
+        };
+        Ok(self.over(folder))
     }
 }
 
@@ -233,12 +259,13 @@ pub fn export_runs(
 }
 
 /// `motion-stylizer export --from DIR`: an existing weights folder (format 1, 2 or 3) written
-/// again in format 3 with `encodings`: the same provenance and label codes, the statistics file copied
+/// again in format 3 with `encodings` (the folder's own for the files not chosen): the same provenance and label codes, the statistics file copied
 /// byte for byte, one shared file for the networks both settings carry (they must be the same
 /// numbers; if not, the supervised model's are shared, with a warning).
-pub fn repack(from: &Path, out: &Path, encodings: Encodings) -> anyhow::Result<Manifest> {
+pub fn repack(from: &Path, out: &Path, encodings: impl Into<EncodingChoice>) -> anyhow::Result<Manifest> {
     let weights = Weights::load_dir(from).with_context(|| format!("cannot load the weights at {}", from.display()))?;
     let mut manifest = weights.manifest().clone();
+    let encodings = encodings.into().over_folder(&manifest)?;
     let norm = std::fs::read(from.join(&manifest.norm)).with_context(|| format!("cannot read {}", manifest.norm))?;
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     rundir::write_atomic(&out.join(&manifest.norm), &norm)?;
@@ -263,10 +290,11 @@ pub fn replace_stylizers(
     from: &Path,
     runs: &[(Setting, &Path)],
     out: &Path,
-    encodings: Encodings,
+    encodings: impl Into<EncodingChoice>,
 ) -> anyhow::Result<Manifest> {
     let weights = Weights::load_dir(from).with_context(|| format!("cannot load the weights at {}", from.display()))?;
     let mut manifest = weights.manifest().clone();
+    let encodings = encodings.into().over_folder(&manifest)?;
     let mut nets = Vec::new();
     for entry in &manifest.models {
         let setting =
