@@ -10,20 +10,52 @@ import { onFileDrop, progress, showError, status } from './ui.js';
 import { MAPPABLE, askMapping, initMapping } from './mapping.js';
 import { fromFolder, fromZip } from './weights.js';
 import { Views, toDisplay } from './views.js';
-import { View3D, canonicalIndices } from './view3d.js';
+import { canonicalIndices } from './canonical.js';
 
 const el = (id) => document.getElementById(id);
+/** Milliseconds since navigation of the boot's steps (state.timings.marks: the budget test prints them). */
+const marks = { app: Math.round(performance.now()) };
+const mark = (name) => (marks[name] ??= Math.round(performance.now()));
 const MAX_FILE_BYTES = 32 * 1024 * 1024;
 const DEFAULT = { content: 'walk-normal', ref: 'walk-elderly', label: 'old' };
 
-const worker = new WorkerClient();
+// The engine (the worker: wasm and weights) starts loading first: the first result waits for it, not
+// for the page. Its answer is awaited in boot(), below.
+// The page's head has usually started it already (index.html).
+const worker = new WorkerClient(window.__engineStart);
+delete window.__engineStart;
+worker.onFirstProgress = (p) => loadProgress(p);
+const firstLoad = worker.first
+  ? { t0: worker.firstStarted, call: worker.first }
+  : { t0: performance.now(), call: worker.call('load', { backend: 'cpu' }, (p) => loadProgress(p)) };
 const views = new Views({ front: el('view-front'), side: el('view-side'), top: el('view-top') });
-const view3d = new View3D(el('view-3d'), el('view-3d-note'));
+/**
+ * The 3D view (three.js): created after the first result, so that neither loading three.js nor its
+ * first frames (WebGL shaders compiling, on a CPU where there is no GPU) hold the first result
+ * back; until then it gathers what it is to show.
+ */
+let view3d = null;
+let view3dShows = {};
 /** Both the orthographic views and the 3D view show the same motions in the same layout. */
 const showMotions = (options) => {
   views.set(options);
-  view3d.set(options);
+  if (view3d) view3d.set(options);
+  else view3dShows = { ...view3dShows, ...options };
 };
+let view3dStarted = null;
+/** Starts the 3D view (once); resolves when it shows what the page shows. */
+function startView3D() {
+  view3dStarted ??= import('./view3d.js')
+    .then(({ View3D }) => {
+      view3d = new View3D(el('view-3d'), el('view-3d-note'));
+      state.view3d = view3d;
+      view3d.set(view3dShows);
+      view3d.draw(player.time);
+      mark('view3d');
+    })
+    .catch((e) => showError('The 3D view could not start', { code: 'INTERNAL', message: e.message }));
+  return view3dStarted;
+}
 const thumbs = new Thumbs(el('thumbs-box'), el('thumbs'), (i) => pickResult(i));
 const player = new Player((time) => showTime(time));
 
@@ -37,11 +69,10 @@ const state = {
   made: null, // {controls, request, content, ref}: what produced `results`
   busy: 0,
   rerun: false,
-  timings: {},
+  timings: { marks },
   custom: null, // a user's weights: {name, settings}
 };
-window.__demo = state; // for the end-to-end tests and the curious (read-only use)
-state.view3d = view3d;
+window.__demo = state; // for the end-to-end tests and the curious (read-only use); state.view3d once it starts
 
 function setBusy(delta) {
   state.busy += delta;
@@ -55,7 +86,7 @@ function setBusy(delta) {
 
 function showTime(time) {
   views.draw(time);
-  view3d.draw(time);
+  view3d?.draw(time);
   thumbs.draw(time);
   // Frame k covers [k/fps, (k+1)/fps): floor, clamped to the last frame (a looping one-frame clip's
   // clock runs in [0, 1/fps) and must read 0 / 0).
@@ -169,11 +200,12 @@ async function importMotion(slot, text, source, name) {
   }
 }
 
-async function loadSample(slot, id) {
+/** Loads a built-in sample into `slot`; `text`: its text, already being fetched. */
+async function loadSample(slot, id, text = null) {
   const sample = sampleById(id);
   if (!sample) return null;
   try {
-    const text = await fetchSample(sample);
+    text = await (text ?? fetchSample(sample));
     const m = await loadMotion(slot, text, { sample: id }, sample.file);
     if (m && slot === 'ref' && sample.label && state.styles.includes(sample.label)) el('ref-label').value = sample.label;
     if (m) el(slot === 'content' ? 'content-sample' : 'ref-sample').value = id;
@@ -251,6 +283,7 @@ async function stylize() {
     state.timings.lastStylizeMs = ms;
     state.timings.lastRoundTripMs = performance.now() - started;
     state.timings.firstResultMs ??= performance.now();
+    mark('result');
     showError(null);
     thumbs.show(state.results.map((r) => r.display), state.content.display, 0);
     pickResult(Math.min(state.pendingPick ?? 0, state.results.length - 1));
@@ -407,20 +440,26 @@ window.addEventListener('hashchange', () => hasState(location.hash) && state.sty
 
 // ---------- engine ----------
 
-/** Starts the engine on `backend`; `weights`: {weights, settings} of a user's folder, or {shipped: true}. */
-async function loadEngine(backend, weights = { settings: state.custom?.settings }) {
+/** A load's progress (the weights' download, then the engine starting) on the status line and the bar. */
+function loadProgress(p) {
+  if (p.stage === 'weights' && p.total) {
+    status(`Downloading the model: ${(p.loaded / 1048576).toFixed(1)} of ${(p.total / 1048576).toFixed(1)} MB…`);
+    progress(p.loaded / p.total);
+  } else if (p.stage === 'compile') {
+    status('Starting the engine…');
+    progress('busy');
+  }
+}
+
+/**
+ * Starts the engine on `backend`; `weights`: {weights, settings} of a user's folder, or {shipped: true};
+ * `started`: the worker's answer to a load already asked for (the page's first, with its start time).
+ */
+async function loadEngine(backend, weights = { settings: state.custom?.settings }, started = null) {
   setBusy(1);
-  const t0 = performance.now();
+  const t0 = started?.t0 ?? performance.now();
   try {
-    const info = await worker.call('load', { backend, ...weights }, (p) => {
-      if (p.stage === 'weights' && p.total) {
-        status(`Downloading the model: ${(p.loaded / 1048576).toFixed(1)} of ${(p.total / 1048576).toFixed(1)} MB…`);
-        progress(p.loaded / p.total);
-      } else if (p.stage === 'compile') {
-        status('Starting the engine…');
-        progress('busy');
-      }
-    });
+    const info = await (started?.call ?? worker.call('load', { backend, ...weights }, loadProgress));
     state.styles = info.styles;
     state.timings.load = { ...info, roundTripMs: performance.now() - t0 };
     const gpu = 'gpu' in navigator ? 'this browser has WebGPU' : 'this browser has no WebGPU';
@@ -504,12 +543,33 @@ async function boot() {
   fillSelect(el('ref-sample'), samples, DEFAULT.ref);
   syncControls();
   showMotions(viewOptions());
-  if (!(await loadEngine('cpu'))) return;
+  const shared = hasState(location.hash);
+  // The default clips' text is fetched while the engine loads (loadSample reports a failure).
+  const prefetch = (id) => {
+    const text = fetchSample(sampleById(id));
+    text.catch(() => {});
+    return text;
+  };
+  const texts = shared ? {} : { content: prefetch(DEFAULT.content), ref: prefetch(DEFAULT.ref) };
+  if (!(await loadEngine('cpu', undefined, firstLoad))) return startView3D();
+  mark('engine');
+  // The worker's own steps, on this page's clock.
+  const clock = state.timings.load.clock ?? {};
+  for (const [name, at] of Object.entries(clock)) marks[name] = Math.round(at - performance.timeOrigin);
   fillLabels({ label: DEFAULT.label, 'mix-a-label': DEFAULT.label, 'ref-label': 'old' });
-  if (hasState(location.hash) && (await openShared(location.hash))) return finishBoot();
-  await loadSample('content', DEFAULT.content);
-  await loadSample('ref', DEFAULT.ref);
+  if (shared && (await openShared(location.hash))) {
+    await startView3D();
+    return finishBoot();
+  }
+  await loadSample('content', DEFAULT.content, texts.content);
+  mark('content');
+  // The first result needs only the content (a label); the 3D view and the reference follow it.
   await stylize();
+  await startView3D();
+  const said = el('status').textContent; // the result's line stays (an error shows in its own box)
+  await loadSample('ref', DEFAULT.ref, texts.ref);
+  status(said);
+  mark('ref');
   // A link that could not be opened stays reported above the defaults loaded instead.
   if (linkError) showError('This share link cannot be opened', linkError);
   finishBoot();

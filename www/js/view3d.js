@@ -3,18 +3,13 @@
 // bodies as they walk. It draws the same display-space motions as the orthographic views
 // (views.js: Y up, facing +Z, centimetres) at the player's time, in the same layout.
 //
-// A motion's joints are the user's; `canonicalIndices` maps the canonical joints onto them with the
-// importer's matches (canonical name → user joint name), so every rig gets the same body.
+// A motion's joints are the user's; `canonicalIndices` (canonical.js) maps the canonical joints onto
+// them with the importer's matches, so every rig gets the same body.
 
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { CANONICAL, PARENTS } from './canonical.js';
 import { COLORS, frameAt, layoutItems } from './views.js';
-
-/** The canonical rig (src/skeleton/canonical.rs): names and parents. */
-const CANONICAL = ['Hips', 'Spine', 'Chest', 'Neck', 'Head', 'Shoulder_L', 'UpperArm_L', 'LowerArm_L', 'Hand_L',
-  'Shoulder_R', 'UpperArm_R', 'LowerArm_R', 'Hand_R', 'UpperLeg_L', 'LowerLeg_L', 'Foot_L', 'Toes_L',
-  'UpperLeg_R', 'LowerLeg_R', 'Foot_R', 'Toes_R'];
-const PARENTS = [-1, 0, 1, 2, 3, 2, 5, 6, 7, 2, 9, 10, 11, 0, 13, 14, 15, 0, 17, 18, 19];
 
 /** Capsule radius (cm) of the bone that ends at each canonical joint (by name without the side). */
 const RADIUS = {
@@ -23,12 +18,6 @@ const RADIUS = {
 };
 const HEAD_RADIUS = 10;
 const CM = 0.01; // display centimetres → scene metres
-
-/** For each canonical joint, the index of its user joint among `names` (−1 where none matched). */
-export function canonicalIndices(names, matched) {
-  const user = new Map(matched ?? []);
-  return CANONICAL.map((c) => names.indexOf(user.get(c) ?? c));
-}
 
 /** The capsules of one motion: [from, to, radius] joint indices of its own skeleton. */
 function bonesOf(indices) {

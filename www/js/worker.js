@@ -5,6 +5,8 @@
 
 import { Stylizer } from '../pkg/index.js';
 
+/** When this worker's modules had loaded (the engine's package among them), on the page's clock's origin. */
+const started = performance.timeOrigin + performance.now();
 let stylizer = null;
 const slots = new Map();
 /** Where the package's download progress goes: the request in progress (load, or a stylize that fetches a model). */
@@ -64,6 +66,8 @@ const ops = {
       weightsId: stylizer.weightsId,
       fetchMs,
       totalMs: performance.now() - t0,
+      // On the page's clock (ms since epoch): when this worker's modules had loaded, and the load began.
+      clock: { workerReady: started, loadBegan: performance.timeOrigin + t0 },
     };
   },
 
