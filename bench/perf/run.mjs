@@ -229,6 +229,7 @@ const cpuinfo = existsSync('/proc/cpuinfo') ? readFileSync('/proc/cpuinfo', 'utf
 const flags = (cpuinfo.match(/^flags\s*:(.*)$/m) ?? ['', ''])[1].split(' ');
 const mhz = Number((cpuinfo.match(/^cpu MHz\s*:\s*([\d.]+)/m) ?? [])[1]) || cpus()[0]?.speed;
 const family = Number((cpuinfo.match(/^cpu family\s*:\s*(\d+)/m) ?? [])[1]);
+const model = Number((cpuinfo.match(/^model\s*:\s*(\d+)/m) ?? [])[1]);
 const vendor = (cpuinfo.match(/^vendor_id\s*:\s*(\S+)/m) ?? [])[1];
 // FP32 FLOPs per cycle per core: 2 FMA pipes × lanes × 2. AVX-512 at full width on AMD Zen 5
 // (family 26) and Intel server cores, 256-bit datapaths on Zen 4 and earlier (AVX-512 split in two).
@@ -300,7 +301,9 @@ const results = {
   settings: { rounds, repeats, threads, frames: T, runs_per_median: rounds * repeats },
   machine: {
     cpu: (cpuinfo.match(/^model name\s*:\s*(.*)$/m) ?? [])[1] ?? cpus()[0]?.model,
+    vendor,
     cpu_family: family,
+    cpu_model: model,
     cores: cpus().length,
     clock_mhz: mhz,
     memory_gib: +(totalmem() / 2 ** 30).toFixed(1),
@@ -342,6 +345,26 @@ mkdirSync(dirname(outFile), { recursive: true });
 // The training benchmark's keys (bench/perf/train_run.mjs, `make bench-train`) are kept as they are.
 const previous = existsSync(outFile) ? JSON.parse(readFileSync(outFile, 'utf8')) : {};
 for (const k of ['train_step_vs_pytorch', 'train_step']) if (k in previous) results[k] = previous[k];
+// Every machine kind's latest ratios stay (vendor-family-model, as the training benchmark keys them);
+// the unkeyed fields above are this run's. A file from before the keys: its run is kept under what
+// its machine record says.
+const machineKey = (m) => `${m.vendor ?? 'unknown'}-family${m.cpu_family}-model${m.cpu_model ?? 'unknown'}`;
+const summary = (r) => ({
+  wasm_vs_onnxruntime: r.wasm_vs_onnxruntime,
+  native_vs_pytorch: r.native_vs_pytorch,
+  samples10_vs_1: r.samples10_vs_1,
+  by_work: r.by_work,
+  throughput: r.throughput,
+  peak: r.peak,
+  median_ms: r.median_ms,
+  settings: r.settings,
+  machine: r.machine,
+});
+const byMachine = previous.by_machine ?? {};
+if (!previous.by_machine && previous.machine?.cpu_family) byMachine[machineKey(previous.machine)] = summary(previous);
+byMachine[machineKey(results.machine)] = summary(results);
+results.by_machine = byMachine;
+results.definitions.by_machine = 'per machine kind (vendor-family-model): the latest run\'s ratios, throughput, medians and machine';
 writeFileSync(outFile, JSON.stringify(results, null, 2) + '\n');
 console.log(`wrote ${outFile}`);
 rmSync(work, { recursive: true, force: true });

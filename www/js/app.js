@@ -22,9 +22,8 @@ const DEFAULT = { content: 'walk-normal', ref: 'walk-elderly', label: 'old' };
 // The engine (the worker: wasm and weights) starts loading first: the first result waits for it, not
 // for the page. Its answer is awaited in boot(), below.
 // The page's head has usually started it already (index.html).
-const worker = new WorkerClient(window.__engineStart);
+const worker = new WorkerClient(window.__engineStart, (p) => loadProgress(p));
 delete window.__engineStart;
-worker.onFirstProgress = (p) => loadProgress(p);
 const firstLoad = worker.first
   ? { t0: worker.firstStarted, call: worker.first }
   : { t0: performance.now(), call: worker.call('load', { backend: 'cpu' }, (p) => loadProgress(p)) };

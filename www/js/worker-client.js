@@ -7,10 +7,10 @@ export class WorkerClient {
   /**
    * `start`: a worker the page's head already started ({worker, said, t0}: index.html asks it to load
    * the engine as request 0 before the page's modules arrive, and keeps what it has said so far). Its
-   * answer is `first` (a promise, as call() gives; progress to `onFirstProgress`); without one, a
-   * new worker and `first` null.
+   * answer is `first` (a promise, as call() gives), its progress, what was said before included, goes
+   * to `onFirstProgress`; without one, a new worker and `first` null.
    */
-  constructor(start = null) {
+  constructor(start = null, onFirstProgress = null) {
     this.worker = start?.worker ?? new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
     this.pending = new Map();
     this.nextId = 1;
@@ -22,9 +22,8 @@ export class WorkerClient {
     };
     this.first = null;
     this.firstStarted = start?.t0 ?? null;
-    this.onFirstProgress = null;
     if (start) {
-      this.first = new Promise((resolve, reject) => this.pending.set(0, { resolve, reject, onProgress: (p) => this.onFirstProgress?.(p) }));
+      this.first = new Promise((resolve, reject) => this.pending.set(0, { resolve, reject, onProgress: onFirstProgress }));
       for (const data of start.said.splice(0)) this.receive(data);
     }
   }
