@@ -38,9 +38,15 @@ thread_local! {
 
 /// The shipped weights with both models and their style encoders.
 fn full_engine() -> Engine {
-    let mut engine =
-        Engine::new(MANIFEST, NORM, Some(SHARED.to_vec()), Some(SUPERVISED.to_vec()), Some(UNSUPERVISED.to_vec()), "cpu")
-            .unwrap_or_else(|e| panic!("shipped weights: {}", message(&e)));
+    let mut engine = Engine::new(
+        MANIFEST,
+        NORM,
+        Some(SHARED.to_vec()),
+        Some(SUPERVISED.to_vec()),
+        Some(UNSUPERVISED.to_vec()),
+        "cpu",
+    )
+    .unwrap_or_else(|e| panic!("shipped weights: {}", message(&e)));
     for (setting, bytes) in [("supervised", SUPERVISED_STYLE), ("unsupervised", UNSUPERVISED_STYLE)] {
         engine.add_style_encoder(setting, bytes).unwrap_or_else(|e| panic!("{setting} style encoder: {}", message(&e)));
     }

@@ -246,7 +246,10 @@ fn resolve_style(
                 (None, Setting::Supervised) => {
                     let (style, _) = stylize::infer_label(weights, &reference.motion)?;
                     let name = weights.style_name(style).unwrap_or("?");
-                    eprintln!("inferred the reference's label: {name} (of {}; pass --label to choose it)", path.display());
+                    eprintln!(
+                        "inferred the reference's label: {name} (of {}; pass --label to choose it)",
+                        path.display()
+                    );
                     Some(style)
                 }
                 (None, Setting::Unsupervised) => None,
@@ -289,7 +292,8 @@ pub fn run(args: &StylizeArgs) -> anyhow::Result<()> {
         strength: args.strength,
         guidance: args.guidance,
     };
-    let main_resolved = main.as_ref().map(|m| resolve_style(m, &weights, setting, style_map.as_ref())).transpose()?.flatten();
+    let main_resolved =
+        main.as_ref().map(|m| resolve_style(m, &weights, setting, style_map.as_ref())).transpose()?.flatten();
     let part_resolved: Vec<_> = BodyPart::ALL
         .iter()
         .map(|&part| match parts.iter().rev().find(|(p, _)| *p == part) {

@@ -22,7 +22,9 @@ pub enum StylizeError {
     /// A request that needs the style encoder (a reference motion, or a label to infer) of a
     /// model loaded without it: format 3 keeps each style encoder in a file of its own, which a
     /// loader adds when first needed ([`super::Weights::add_style_encoder`]).
-    #[error("the {setting} model's style encoder is not loaded (its file is fetched when a reference motion is first used)")]
+    #[error(
+        "the {setting} model's style encoder is not loaded (its file is fetched when a reference motion is first used)"
+    )]
     StyleEncoderUnavailable { setting: Setting },
     /// A label-based request to the unsupervised model (it knows no labels).
     #[error(
@@ -114,9 +116,9 @@ impl From<ModelError> for StylizeError {
     fn from(e: ModelError) -> Self {
         match e {
             ModelError::Weights(m) => StylizeError::BadWeights(m),
-            ModelError::StyleEncoderNotLoaded { setting } => StylizeError::StyleEncoderUnavailable {
-                setting: Setting::from_name(setting).unwrap_or_default(),
-            },
+            ModelError::StyleEncoderNotLoaded { setting } => {
+                StylizeError::StyleEncoderUnavailable { setting: Setting::from_name(setting).unwrap_or_default() }
+            }
             other => StylizeError::Model(other.to_string()),
         }
     }

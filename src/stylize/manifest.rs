@@ -120,7 +120,10 @@ impl Manifest {
                     setting: m.setting.clone(),
                     file: m.file.clone(),
                     bytes: m.bytes.unwrap_or(0),
-                    style_encoder: m.style_encoder.as_ref().map(|f| ListedFile { file: f.file.clone(), bytes: f.bytes }),
+                    style_encoder: m
+                        .style_encoder
+                        .as_ref()
+                        .map(|f| ListedFile { file: f.file.clone(), bytes: f.bytes }),
                 })
                 .collect(),
         }

@@ -81,4 +81,4 @@ pub use source::{
     DEFAULT_GUIDANCE, DEFAULT_STRENGTH, DEFAULT_TEMPERATURE, MAX_GUIDANCE, MAX_MIX_DEPTH, MAX_SAMPLES, MAX_STRENGTH,
     MAX_TEMPERATURE, Request, StyleSource,
 };
-pub use weights::{Setting, Weights, WeightFiles};
+pub use weights::{Setting, WeightFiles, Weights};

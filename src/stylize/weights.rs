@@ -102,7 +102,13 @@ impl Weights {
         supervised: Option<&[u8]>,
         unsupervised: Option<&[u8]>,
     ) -> Result<Weights, StylizeError> {
-        Self::from_files(WeightFiles { manifest: manifest_json, norm: norm_json, supervised, unsupervised, ..Default::default() })
+        Self::from_files(WeightFiles {
+            manifest: manifest_json,
+            norm: norm_json,
+            supervised,
+            unsupervised,
+            ..Default::default()
+        })
     }
 
     /// [`Weights::from_bytes`] on a given device.
@@ -113,7 +119,8 @@ impl Weights {
         supervised: Option<&[u8]>,
         unsupervised: Option<&[u8]>,
     ) -> Result<Weights, StylizeError> {
-        let files = WeightFiles { manifest: manifest_json, norm: norm_json, supervised, unsupervised, ..Default::default() };
+        let files =
+            WeightFiles { manifest: manifest_json, norm: norm_json, supervised, unsupervised, ..Default::default() };
         Self::from_files_on(device, files)
     }
 
@@ -168,7 +175,9 @@ impl Weights {
             }
             if let Some(style) = style {
                 if bytes.is_none() {
-                    return Err(bad(format!("the {setting} style encoder's file was given without the {setting} file")));
+                    return Err(bad(format!(
+                        "the {setting} style encoder's file was given without the {setting} file"
+                    )));
                 }
                 weights.add_style_encoder(setting, style)?;
             }
@@ -258,7 +267,8 @@ impl Weights {
         if model.has_style_encoder() {
             return Ok(());
         }
-        let file = entry.style_encoder.as_ref().ok_or_else(|| bad(format!("the {setting} entry lists no style encoder")))?;
+        let file =
+            entry.style_encoder.as_ref().ok_or_else(|| bad(format!("the {setting} entry lists no style encoder")))?;
         let context = |m: String| bad(format!("{setting} style encoder file {}: {m}", file.file));
         check_file(&file.file, Some(file.bytes), Some(&file.fnv1a64), bytes).map_err(|e| match e {
             StylizeError::BadWeights(m) => context(m),
