@@ -20,8 +20,7 @@ const MAX_FILE_BYTES = 32 * 1024 * 1024;
 const DEFAULT = { content: 'walk-normal', ref: 'walk-elderly', label: 'old' };
 
 // The engine (the worker: wasm and weights) starts loading first: the first result waits for it, not
-// for the page. Its answer is awaited in boot(), below.
-// The page's head has usually started it already (index.html).
+// for the page. The page's head has usually started it already (index.html); boot() awaits its answer.
 const worker = new WorkerClient(window.__engineStart, (p) => loadProgress(p));
 delete window.__engineStart;
 const firstLoad = worker.first

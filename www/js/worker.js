@@ -5,7 +5,7 @@
 
 import { Stylizer } from '../pkg/index.js';
 
-/** When this worker's modules had loaded (the engine's package among them), on the page's clock's origin. */
+/** When this worker's modules had loaded (the engine's package among them): ms since the epoch, as the page can compare. */
 const started = performance.timeOrigin + performance.now();
 let stylizer = null;
 const slots = new Map();
