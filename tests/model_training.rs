@@ -159,3 +159,77 @@ fn resumed_adam_state_gives_the_same_next_step() {
     assert_ne!(weights(&a), weights(&c), "fresh moments make a different update");
     assert!(b.load_optimizer_state(&state[..state.len() - 1]).is_err());
 }
+
+/// Largest relative difference between two reports' fields (as their Debug lists them).
+fn max_relative_difference(a: &impl std::fmt::Debug, b: &impl std::fmt::Debug) -> f64 {
+    let numbers = |s: String| -> Vec<f64> {
+        s.split(|c: char| !(c.is_ascii_digit() || matches!(c, '.' | '-' | 'e')))
+            .filter_map(|w| w.parse::<f64>().ok())
+            .collect()
+    };
+    let (a, b) = (numbers(format!("{a:?}")), numbers(format!("{b:?}")));
+    assert_eq!(a.len(), b.len());
+    a.iter().zip(&b).map(|(x, y)| (x - y).abs() / x.abs().max(y.abs()).max(1e-6)).fold(0.0, f64::max)
+}
+
+/// Issue 13: a step whose batch is cut into row groups run side by side (`TrainConfig::batch_chunks`,
+/// `src/train/parallel.rs`) is the whole batch's step up to float rounding — every loss term (the
+/// style statistics over content-paired rows spread unevenly over the groups included) and both
+/// gradient norms, over three steps at the paper's learning rate — and a split run repeats itself
+/// bit for bit.
+#[test]
+fn a_batch_split_into_row_groups_takes_the_whole_batch_step() {
+    let weights = |supervised: bool| motion_stylizer::train::StylizerWeights {
+        style_stats: 3.0,
+        content_shape: 1.0,
+        ..motion_stylizer::train::StylizerWeights::paper(supervised)
+    };
+    for supervised in [true, false] {
+        let run = |chunks: usize| {
+            let dev = Device::flex();
+            dev.seed(3);
+            let cfg = cfg(supervised).with_vae(!supervised);
+            let ae = MotionAutoencoder::new(&cfg, &dev);
+            let train = TrainConfig {
+                batch_chunks: chunks,
+                stylizer_weights: Some(weights(supervised)),
+                ..TrainConfig::default()
+            };
+            let mut trainer = StylizerTrainer::new(cfg, train, ae, &dev, 4);
+            let mut rng = NoiseRng::new(5);
+            let batch = StylizerBatch {
+                motion1: features(&mut rng, 8, T),
+                motion2: features(&mut rng, 8, T),
+                labels: supervised.then(|| vec![0, 2, 1, 1, 0, 2, 2, 1]),
+                // Two pairs in the first half, one in the second.
+                content_paired: vec![0, 1, 2, 3, 4, 5],
+            };
+            (0..3).map(|_| trainer.step(&batch).unwrap()).collect::<Vec<_>>()
+        };
+        let (whole, split) = (run(1), run(2));
+        assert!(split[0].style_stats > 0.0 && split[0].content_shape > 0.0, "{:?}", split[0]);
+        for (step, (w, s)) in whole.iter().zip(&split).enumerate() {
+            let d = max_relative_difference(w, s);
+            eprintln!("supervised={supervised} step {step}: {d:.1e}");
+            assert!(d < if step == 0 { 1e-5 } else { 1e-4 }, "step {step}: {w:?}\n  vs {s:?}");
+        }
+        assert_eq!(format!("{split:?}"), format!("{:?}", run(2)), "a split run repeats itself");
+    }
+    for vae in [false, true] {
+        let run = |chunks: usize, dropout: f64| {
+            let dev = Device::flex();
+            let cfg = ModelConfig { dropout, ..cfg(true).with_vae(vae) };
+            let train = TrainConfig { batch_chunks: chunks, ..TrainConfig::default() };
+            let mut trainer = AeTrainer::new(cfg, train, &dev, 1);
+            let x = features(&mut NoiseRng::new(2), 8, T);
+            (0..3).map(|_| trainer.step(x.clone()).unwrap()).collect::<Vec<_>>()
+        };
+        for (step, (w, s)) in run(1, 0.0).iter().zip(&run(2, 0.0)).enumerate() {
+            let d = max_relative_difference(w, s);
+            eprintln!("vae={vae} step {step}: {d:.1e}");
+            assert!(d < if step == 0 { 1e-5 } else { 1e-4 }, "step {step}: {w:?}\n  vs {s:?}");
+        }
+        // With dropout the groups draw their masks one after the other: still repeatable.
+        assert_eq!(format!("{:?}", run(2, 0.2)), format!("{:?}", run(2, 0.2)));
+    }
+}

@@ -320,6 +320,13 @@ pub fn conv1d_gemm_cbt(conv: &Conv1d, x: Tensor<3>) -> Tensor<3> {
     // and a wide right-hand side even where T is short).
     let cols = if k == 1 {
         x.reshape([c_in, b * t_out])
+    } else if !x.is_tracked() {
+        // Without a graph (inference): the taps as one strided view of `x` (flex's unfold is a
+        // view: `[C_in, B, T_out, k]`, stride 2 included), laid out `[C_in, k, B, T_out]` by one
+        // copy. The same columns as the stacked taps below, which copy each tap twice (made
+        // contiguous, then concatenated). Not in training: Burn differentiates unfold window by
+        // window.
+        x.unfold::<4, _>(2, k, stride).permute([0, 3, 1, 2]).reshape([c_in * k, b * t_out])
     } else {
         let taps: Vec<Tensor<3>> = (0..k)
             .map(|j| {

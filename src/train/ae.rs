@@ -7,8 +7,9 @@ use burn::prelude::*;
 
 use super::data::TrainData;
 use super::eval;
-use super::losses::{autoencoder_loss, l1};
+use super::losses::{autoencoder_loss, autoencoder_noise, l1};
 use super::optim::{adam, clip_grad_norm, optimizers_from_bytes, optimizers_to_bytes, read_scalars};
+use super::parallel::{Replica, map_parallel, row_groups, sum_grads};
 use super::rundir::{load_module, module_bytes};
 use super::sampler::{SamplerRng, batch_tensor};
 use super::settings::TrainConfig;
@@ -96,20 +97,68 @@ impl AeTrainer {
         check_features("pose features", &features)?;
         let t0 = Instant::now();
         let x = features.to_device(&self.device).autodiff();
-        let ae = autoencoder_loss(&self.autoencoder, x.clone(), &self.train, &mut self.noise);
-        let regressor_loss = l1(self.regressor.forward(regressor_input(x.clone())), regressor_target(x));
+        let [b, _, t] = x.dims();
+        let eps = autoencoder_noise(&self.autoencoder, b, t, &mut self.noise, &self.device);
+        // Row groups side by side on the CPU's threads (`super::parallel`), each on replicas of
+        // both networks and carrying its share of the batch's mean losses. Dropout draws its
+        // masks from the device's one generator, so with dropout on the groups' forward passes
+        // run one after the other (the masks in a fixed order) and only the backward passes
+        // side by side.
+        let groups = row_groups(&self.device, b, self.train.batch_chunks);
+        let split = groups.len() > 1;
+        let replicas: Vec<(Replica<MotionAutoencoder>, Replica<GlobalRegressor>)> = if split {
+            groups.iter().map(|_| (Replica::of(&self.autoencoder), Replica::of(&self.regressor))).collect()
+        } else {
+            Vec::new()
+        };
+        let (autoencoder, regressor, train) = (&self.autoencoder, &self.regressor, &self.train);
+        let forward = |i: usize| {
+            let rows = groups[i].clone();
+            let (ae, reg) = replicas.get(i).map_or((autoencoder, regressor), |(a, r)| (&a.module, &r.module));
+            let x = x.clone().narrow(0, rows.start, rows.len());
+            let eps = eps.clone().map(|e| e.narrow(0, rows.start, rows.len()));
+            let losses = autoencoder_loss(ae, x.clone(), train, eps);
+            let regressor_loss = l1(reg.forward(regressor_input(x.clone())), regressor_target(x));
+            let total = losses.total.clone() + regressor_loss.clone();
+            let total = if split { total * (rows.len() as f32 / b as f32) } else { total };
+            (total, losses, regressor_loss)
+        };
+        let parallel_forward = self.config.dropout == 0.0;
+        let groups_out: Vec<_> = if parallel_forward {
+            map_parallel(groups.len(), forward)
+        } else {
+            (0..groups.len()).map(forward).collect()
+        };
 
         let t1 = Instant::now();
-        let mut grads = (ae.total.clone() + regressor_loss.clone()).backward();
-        let mut g_ae = GradientsParams::from_module(&mut grads, &self.autoencoder);
-        let mut g_reg = GradientsParams::from_module(&mut grads, &self.regressor);
+        let grads = map_parallel(groups.len(), |i| {
+            let mut grads = groups_out[i].0.backward();
+            match replicas.get(i) {
+                Some((ae, reg)) => (ae.grads(&mut grads), reg.grads(&mut grads)),
+                None => (
+                    GradientsParams::from_module(&mut grads, autoencoder),
+                    GradientsParams::from_module(&mut grads, regressor),
+                ),
+            }
+        });
+        let (g_ae, g_reg): (Vec<_>, Vec<_>) = grads.into_iter().unzip();
+        let mut g_ae = sum_grads(&self.autoencoder, g_ae);
+        let mut g_reg = sum_grads(&self.regressor, g_reg);
         let t2 = Instant::now();
         let ae_grad_norm = clip_grad_norm(&self.autoencoder, &mut g_ae, self.train.grad_clip_norm);
         let regressor_grad_norm = clip_grad_norm(&self.regressor, &mut g_reg, self.train.grad_clip_norm);
         let t3 = Instant::now();
 
-        let [ae_loss, reconstruction, sparsity, smoothness, kl, regressor_loss] =
-            read_scalars([ae.total, ae.reconstruction, ae.sparsity, ae.smoothness, ae.kl, regressor_loss]);
+        // The batch's terms: each group's means weighted by its share of the rows.
+        let mut terms = [0f32; 6];
+        for (rows, (_, ae, regressor_loss)) in groups.iter().zip(groups_out) {
+            let values = read_scalars([ae.total, ae.reconstruction, ae.sparsity, ae.smoothness, ae.kl, regressor_loss]);
+            let share = rows.len() as f32 / b as f32;
+            for (t, v) in terms.iter_mut().zip(values) {
+                *t += if split { v * share } else { v };
+            }
+        }
+        let [ae_loss, reconstruction, sparsity, smoothness, kl, regressor_loss] = terms;
         self.autoencoder = self.optim_ae.step(self.train.lr, self.autoencoder.clone(), g_ae);
         self.regressor = self.optim_regressor.step(self.train.regressor_lr, self.regressor.clone(), g_reg);
         if let Some(p) = &mut self.phases {

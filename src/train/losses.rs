@@ -1,6 +1,8 @@
 //! Losses. All reductions are means over every element (PyTorch's default `reduction="mean"`;
 //! the reference's KL terms are `sum / numel` too), so weights compare across widths and lengths.
 
+use std::ops::Range;
+
 use burn::prelude::*;
 use burn::tensor::activation::log_softmax;
 use serde::{Deserialize, Serialize};
@@ -93,22 +95,38 @@ pub struct AeLosses {
     pub kl: Tensor<1>,
 }
 
+/// The VAE's reparameterisation noise for a batch of `batch` windows of `frames` frames: `[B,
+/// latent_dim, frames / 4]` (the encoder halves time twice) drawn from `noise`; `None` for the
+/// plain autoencoder, which draws nothing.
+pub fn autoencoder_noise(
+    ae: &MotionAutoencoder,
+    batch: usize,
+    frames: usize,
+    noise: &mut NoiseRng,
+    device: &Device,
+) -> Option<Tensor<3>> {
+    let d = ae.encoder.vae.then_some(ae.encoder.latent_dim)?;
+    let l = frames / 4;
+    Some(noise.normal_tensor(batch, d * l, device).reshape([batch, d, l]))
+}
+
 /// Autoencoder loss for features `[B, 260, T]`: smooth-L1 reconstruction of all 260 dims from
 /// the 256 the encoder sees, plus (AE) `λ_l1 ‖z‖₁ + λ_sms ‖Δz‖₁` or (VAE) `λ_kl KL(z ‖ N(0,I))`,
-/// each 0.001. The VAE decodes a reparameterised sample with noise from `noise`.
+/// each 0.001. The VAE decodes a reparameterised sample with the noise `eps`
+/// ([`autoencoder_noise`]; a VAE without it is a bug of the caller's and panics).
 pub fn autoencoder_loss(
     ae: &MotionAutoencoder,
     features: Tensor<3>,
     cfg: &TrainConfig,
-    noise: &mut NoiseRng,
+    eps: Option<Tensor<3>>,
 ) -> AeLosses {
     let device = features.device();
     let dist = ae.encoder.forward(ae_input(features.clone()));
     let zero = || Tensor::<1>::zeros([1], &device);
     let (z, sparsity, smoothness, kl) = match &dist.logvar {
         Some(logvar) => {
-            let [b, d, l] = dist.mean.dims();
-            let eps: Tensor<3> = noise.normal_tensor(b, d * l, &device).reshape([b, d, l]);
+            let eps = eps.expect("the VAE's noise (autoencoder_noise)");
+            assert_eq!(eps.dims(), dist.mean.dims(), "the VAE's noise has the latent's shape");
             let z = dist.mean.clone() + (logvar.clone() * 0.5).exp() * eps;
             let kl = kl_to_standard_normal(dist.mean.clone(), logvar.clone());
             (z, zero(), zero(), kl)
@@ -257,6 +275,53 @@ pub struct StylizerLosses {
     pub content_shape: Tensor<1>,
 }
 
+impl StylizerInputs {
+    /// The rows `rows` of the batch (a row group of [`super::parallel`]): `content_paired`
+    /// keeps the paired rows inside it, renumbered.
+    pub fn rows(&self, rows: Range<usize>) -> Self {
+        let pick3 = |x: &Tensor<3>| x.clone().narrow(0, rows.start, rows.len());
+        Self {
+            motion1: pick3(&self.motion1),
+            motion2: pick3(&self.motion2),
+            latent1: pick3(&self.latent1),
+            latent2: pick3(&self.latent2),
+            labels: self.labels.as_ref().map(|l| l.clone().narrow(0, rows.start, rows.len())),
+            content_paired: self.content_paired.iter().filter(|r| rows.contains(r)).map(|r| r - rows.start).collect(),
+        }
+    }
+}
+
+/// The five reparameterisation draws of one stylizer step, `[B, style_dim]` each, in the order
+/// [`stylizer_loss`] uses them: s¹, s², s³, s² again (from the detached posterior), sᵗ.
+#[derive(Clone, Debug)]
+pub struct StyleNoise(pub [Tensor<2>; 5]);
+
+impl StyleNoise {
+    /// Five draws from `noise`, one after the other.
+    pub fn draw(noise: &mut NoiseRng, batch: usize, style_dim: usize, device: &Device) -> Self {
+        Self(std::array::from_fn(|_| noise.normal_tensor(batch, style_dim, device)))
+    }
+
+    /// The draws of the rows `rows`.
+    pub fn rows(&self, rows: Range<usize>) -> Self {
+        Self(self.0.clone().map(|e| e.narrow(0, rows.start, rows.len())))
+    }
+}
+
+/// The share of a whole batch's loss that one row group's terms carry: `rows` for the terms
+/// averaged over rows (the group's rows ÷ the batch's), `paired` for the style statistics
+/// (the group's content-paired rows ÷ the batch's).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LossShares {
+    pub rows: f32,
+    pub paired: f32,
+}
+
+impl LossShares {
+    /// A whole batch.
+    pub const WHOLE: Self = Self { rows: 1.0, paired: 1.0 };
+}
+
 /// The row permutation that picks "another clip" `z³` for every row: rows swapped in pairs
 /// (0↔1, 2↔3, …, as the reference's `swap`) for an even batch; a rotation by one for an odd
 /// batch, so every row still gets another row's clip. `B = 1` gives the identity.
@@ -293,12 +358,26 @@ pub fn stylizer_loss(
     weights: &StylizerWeights,
     noise: &mut NoiseRng,
 ) -> StylizerLosses {
+    let eps = StyleNoise::draw(noise, inputs.latent1.dims()[0], net.style_encoder.style_dim, &inputs.latent1.device());
+    stylizer_loss_drawn(net, decoder, inputs, weights, eps, LossShares::WHOLE)
+}
+
+/// [`stylizer_loss`] with its reparameterisation noise drawn beforehand, and its total weighted
+/// as `shares` of a larger batch (a row group of [`super::parallel`]; the terms it reports are
+/// the group's own means).
+pub fn stylizer_loss_drawn(
+    net: &Stylizer,
+    decoder: &MotionDecoder,
+    inputs: &StylizerInputs,
+    weights: &StylizerWeights,
+    eps: StyleNoise,
+    shares: LossShares,
+) -> StylizerLosses {
     let device = inputs.latent1.device();
     let batch = inputs.latent1.dims()[0];
     let perm: Vec<i64> = partner_permutation(batch).into_iter().map(|i| i as i64).collect();
     let perm = Tensor::<1, Int>::from_data(TensorData::new(perm, [batch]), &device);
-    let style_dim = net.style_encoder.style_dim;
-    let mut eps = || noise.normal_tensor(batch, style_dim, &device);
+    let StyleNoise([eps1, eps2, eps3, eps2b, eps_t]) = eps;
 
     let z1 = inputs.latent1.clone();
     let z2 = inputs.latent2.clone();
@@ -331,9 +410,9 @@ pub fn stylizer_loss(
     let n3 = n2.select(perm);
 
     // Autoencoding ẑ¹, ẑ² and the swap zᵗ = G(c² (detached), s³, sl³), in one generator pass.
-    let s1 = n1.sample_with(eps());
-    let s2 = n2.sample_with(eps());
-    let s3 = n3.sample_with(eps());
+    let s1 = n1.sample_with(eps1);
+    let s2 = n2.sample_with(eps2);
+    let s3 = n3.sample_with(eps3);
     let g = net.generator.forward(
         stack3(vec![c1, c2.clone(), c2.detach()]),
         stack2(vec![s1, s2, s3]),
@@ -343,8 +422,8 @@ pub fn stylizer_loss(
     // Cycle: encode zᵗ, then z̃² = G(cᵗ, s ~ N²(detached), sl²), z̃³ = G(c³ (detached), s ~ Nᵗ, sl³).
     let ct = net.content_encoder.forward(zt.clone());
     let nt = net.style_encoder.forward(zt.clone(), sl3.clone());
-    let s2b = n2.detach().sample_with(eps());
-    let st = nt.sample_with(eps());
+    let s2b = n2.detach().sample_with(eps2b);
+    let st = nt.sample_with(eps_t);
     let g = net.generator.forward(stack3(vec![ct, c3.detach()]), stack2(vec![s2b, st]), stack_labels(vec![&sl, &sl3]));
     let (rr2, rr3) = (rows(g.clone(), 0), rows(g, 1));
 
@@ -387,12 +466,16 @@ pub fn stylizer_loss(
     let kl = style_kl(&n1) + style_kl(&n2) + style_kl(&nt);
     let hsa = style_alignment(&n1, &n2);
 
-    let total = (rec_latent.clone() + rec_pose.clone()) * weights.rec
-        + (cyc_latent.clone() + cyc_pose.clone()) * weights.cyc
-        + kl.clone() * weights.kl
-        + hsa.clone() * weights.hsa
-        + style_stats.clone() * weights.style_stats
-        + content_shape.clone() * weights.content_shape;
+    // Every term is a mean over the rows (the style statistics: over the content-paired rows);
+    // a row group's total is its share of the whole batch's (`w × 1` is `w`: a whole batch's
+    // total is the same to the bit).
+    let LossShares { rows: share, paired } = shares;
+    let total = (rec_latent.clone() + rec_pose.clone()) * (weights.rec * share)
+        + (cyc_latent.clone() + cyc_pose.clone()) * (weights.cyc * share)
+        + kl.clone() * (weights.kl * share)
+        + hsa.clone() * (weights.hsa * share)
+        + style_stats.clone() * (weights.style_stats * paired)
+        + content_shape.clone() * (weights.content_shape * share);
     StylizerLosses { total, rec_latent, rec_pose, cyc_latent, cyc_pose, kl, hsa, style_stats, content_shape }
 }
 

@@ -56,6 +56,7 @@ pub mod label_codes;
 pub mod logs;
 pub mod losses;
 pub mod optim;
+pub mod parallel;
 pub mod progress;
 pub mod rundir;
 pub mod runner;

@@ -176,6 +176,9 @@ impl TrainOptions {
     }
 }
 
+/// [`TrainConfig::batch_chunks`] of a new run (and of one from before the setting existed).
+pub const DEFAULT_BATCH_CHUNKS: usize = 2;
+
 /// Training settings from the paper / its code (the model facts' "Training").
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
@@ -194,6 +197,12 @@ pub struct TrainConfig {
     pub lambda_ae_kl: f32,
     /// Stylizer loss weights; `None` means the paper's for the model's (un)supervised mode.
     pub stylizer_weights: Option<StylizerWeights>,
+    /// Row groups of a training step's batch (autoencoder + regressor, stylizer), run side by
+    /// side on the CPU's threads ([`super::parallel`]; 2: one per core of a 2-core machine). The
+    /// same step up to float rounding whatever the value; a run's numbers depend on it, not on
+    /// the thread count. 1: the whole batch at once (as before this setting). GPU devices always
+    /// take the whole batch.
+    pub batch_chunks: usize,
 }
 
 impl Default for TrainConfig {
@@ -206,6 +215,7 @@ impl Default for TrainConfig {
             lambda_smooth: 0.001,
             lambda_ae_kl: 0.001,
             stylizer_weights: None,
+            batch_chunks: DEFAULT_BATCH_CHUNKS,
         }
     }
 }

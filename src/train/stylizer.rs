@@ -7,11 +7,12 @@ use burn::prelude::*;
 
 use super::data::TrainData;
 use super::eval;
-use super::losses::{StylizerInputs, StylizerWeights, stylizer_loss};
+use super::losses::{LossShares, StyleNoise, StylizerInputs, StylizerWeights, stylizer_loss_drawn};
 use super::optim::{
     adam, clip_factor, clip_grad_norm, optimizers_from_bytes, optimizers_to_bytes, read_scalars, scale_grads,
     squared_norm_parts, total_norm,
 };
+use super::parallel::{Replica, map_parallel, row_groups, sum_grads};
 use super::rundir::{load_module, module_bytes};
 use super::sampler::{SamplerRng, batch_tensor};
 use super::settings::TrainConfig;
@@ -168,11 +169,36 @@ impl StylizerTrainer {
             labels,
             content_paired: batch.content_paired.clone(),
         };
-        let losses = stylizer_loss(&self.net, &self.autoencoder.decoder, &inputs, &self.weights, &mut self.noise);
+        let eps = StyleNoise::draw(&mut self.noise, b, self.net.style_encoder.style_dim, &self.device);
+        // The batch's row groups side by side on the CPU's threads (`super::parallel`), each its
+        // share of the whole batch's loss; one group on a GPU or with `batch_chunks` 1.
+        let groups = row_groups(&self.device, b, self.train.batch_chunks);
+        let paired_total = batch.content_paired.len().max(1) as f32;
+        let shares: Vec<LossShares> = groups
+            .iter()
+            .map(|g| LossShares {
+                rows: g.len() as f32 / b as f32,
+                paired: batch.content_paired.iter().filter(|r| g.contains(r)).count() as f32 / paired_total,
+            })
+            .collect();
+        let (net, decoder, weights) = (&self.net, &self.autoencoder.decoder, &self.weights);
+        let replicas: Vec<Replica<Stylizer>> =
+            if groups.len() == 1 { Vec::new() } else { groups.iter().map(|_| Replica::of(net)).collect() };
+        let losses = map_parallel(groups.len(), |i| {
+            let net = replicas.get(i).map_or(net, |r| &r.module);
+            let group = inputs.rows(groups[i].clone());
+            stylizer_loss_drawn(net, decoder, &group, weights, eps.rows(groups[i].clone()), shares[i])
+        });
 
         let t1 = Instant::now();
-        let mut grads = losses.total.backward();
-        let mut g = GradientsParams::from_module(&mut grads, &self.net);
+        let grads = map_parallel(losses.len(), |i| {
+            let mut grads = losses[i].total.backward();
+            match replicas.get(i) {
+                Some(replica) => replica.grads(&mut grads),
+                None => GradientsParams::from_module(&mut grads, net),
+            }
+        });
+        let mut g = sum_grads(&self.net, grads);
         let t2 = Instant::now();
         // As the reference: one norm over both encoders, one over the generator.
         let clip = self.train.grad_clip_norm;
@@ -186,17 +212,27 @@ impl StylizerTrainer {
         let generator_grad_norm = clip_grad_norm(&self.net.generator, &mut g, clip);
         let t3 = Instant::now();
 
-        let [loss, rec_latent, rec_pose, cyc_latent, cyc_pose, kl, hsa, style_stats, content_shape] = read_scalars([
-            losses.total,
-            losses.rec_latent,
-            losses.rec_pose,
-            losses.cyc_latent,
-            losses.cyc_pose,
-            losses.kl,
-            losses.hsa,
-            losses.style_stats,
-            losses.content_shape,
-        ]);
+        // The batch's terms: each group's mean weighted by its share (the total is the sum of
+        // the groups' totals, which carry their shares already).
+        let mut terms = [0f32; 9];
+        for (&LossShares { rows: share, paired }, l) in shares.iter().zip(losses) {
+            let values = read_scalars([
+                l.total,
+                l.rec_latent,
+                l.rec_pose,
+                l.cyc_latent,
+                l.cyc_pose,
+                l.kl,
+                l.hsa,
+                l.style_stats,
+                l.content_shape,
+            ]);
+            let scale = [1.0, share, share, share, share, share, share, paired, share];
+            for ((t, v), s) in terms.iter_mut().zip(values).zip(scale) {
+                *t += if groups.len() == 1 { v } else { v * s };
+            }
+        }
+        let [loss, rec_latent, rec_pose, cyc_latent, cyc_pose, kl, hsa, style_stats, content_shape] = terms;
         self.net = self.optim.step(self.train.lr, self.net.clone(), g);
         if let Some(p) = &mut self.phases {
             p.add([t0, t1, t2, t3, Instant::now()]);
