@@ -168,9 +168,18 @@ fn stylizer_trains_in_both_settings_and_exports() {
     let unsup = root.join("unsup");
     let small = ["--window", "32", "--batch", "2"];
     ok(train(&["stylizer", "--ae", p(&ae)], &root, &sup, 3, &small));
-    let mut args = vec!["--unsupervised"];
+    let mut args = vec!["--unsupervised", "--hsa", "0.5"];
     args.extend_from_slice(&small);
     ok(train(&["stylizer", "--ae", p(&ae)], &root, &unsup, 3, &args));
+    // The homo-style alignment weight given replaces the paper's (unsupervised 0.1) in the run's
+    // settings; a run without it keeps the paper's weights (none recorded).
+    let weights_of = |run: &Path| {
+        let config: serde_json::Value = rundir::read_json(&run.join("config.json")).unwrap();
+        config["train"]["stylizer_weights"].clone()
+    };
+    assert_eq!(weights_of(&unsup)["hsa"], 0.5);
+    assert_eq!(weights_of(&unsup)["cyc"], 1.0);
+    assert!(weights_of(&sup).is_null());
     for run in [&sup, &unsup] {
         let loss = CsvTable::read(&run.join("loss.csv")).unwrap();
         assert_eq!(steps_of(&loss), [1, 2, 3]);
@@ -235,6 +244,10 @@ fn bad_arguments_fail_with_a_clear_message() {
 
     let o = train(&["stylizer"], &root, &out, 2, &[]);
     assert!(!o.status.success() && stderr(&o).contains("--ae"), "{}", stderr(&o));
+
+    let o = train(&["stylizer", "--ae", p(&out)], &root, &out, 2, &["--hsa=-1"]);
+    assert!(!o.status.success() && stderr(&o).contains("--hsa -1"), "{}", stderr(&o));
+    assert!(!out.exists(), "nothing written on a bad argument");
 
     let o = cli(&["train", "ae", "--data", p(&root.join("nowhere")), "--out", p(&out)]);
     assert!(!o.status.success() && stderr(&o).contains("dataset-1"), "{}", stderr(&o));

@@ -40,6 +40,10 @@ enum StageArgs {
         /// curves. 0: not used.
         #[arg(long, default_value_t = 0.0, value_name = "WEIGHT")]
         content_shape: f32,
+        /// Weight of the homo-style alignment term (the KL between the style posteriors of two
+        /// windows of one take; new runs) instead of the paper's (supervised 1, unsupervised 0.1).
+        #[arg(long, value_name = "WEIGHT")]
+        hsa: Option<f32>,
     },
     /// The evaluation's style classifier, on the training takes only (`eval` uses it).
     Classifier(TrainOptions),
@@ -132,11 +136,13 @@ pub fn run(args: TrainArgs) -> anyhow::Result<()> {
         StageArgs::Ae(options) => (options, Stage::Ae),
         StageArgs::Classifier(options) => (options, Stage::Classifier),
         StageArgs::ContentClassifier(options) => (options, Stage::ContentClassifier),
-        StageArgs::Stylizer { options, ae, unsupervised, style_stats, content_shape } => {
-            for (flag, w) in [("--style-stats", style_stats), ("--content-shape", content_shape)] {
+        StageArgs::Stylizer { options, ae, unsupervised, style_stats, content_shape, hsa } => {
+            for (flag, w) in
+                [("--style-stats", style_stats), ("--content-shape", content_shape), ("--hsa", hsa.unwrap_or(0.0))]
+            {
                 anyhow::ensure!(w.is_finite() && w >= 0.0, "{flag} {w}: the weight must be 0 or more");
             }
-            let extra = train::losses::ExtraLosses { style_stats, content_shape };
+            let extra = train::losses::ExtraLosses { style_stats, content_shape, hsa };
             (options, Stage::Stylizer { ae, supervised: !unsupervised, extra })
         }
     };

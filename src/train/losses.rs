@@ -173,11 +173,14 @@ pub struct ExtraLosses {
     pub style_stats: f32,
     /// [`StylizerWeights::content_shape`].
     pub content_shape: f32,
+    /// [`StylizerWeights::hsa`] instead of the paper's (`None`: the paper's).
+    pub hsa: Option<f32>,
 }
 
 impl ExtraLosses {
+    /// Whether a run departs from the paper's loss weights.
     pub fn any(&self) -> bool {
-        self.style_stats > 0.0 || self.content_shape > 0.0
+        self.style_stats > 0.0 || self.content_shape > 0.0 || self.hsa.is_some()
     }
 }
 

@@ -231,10 +231,12 @@ fn stylizer_sampler(extra: ExtraLosses) -> String {
 /// A stylizer run's optimisation settings: the defaults, with the paper's loss weights and the
 /// extra losses' weights when they are used.
 fn stylizer_train(supervised: bool, extra: ExtraLosses) -> TrainConfig {
+    let paper = super::losses::StylizerWeights::paper(supervised);
     let weights = extra.any().then_some(super::losses::StylizerWeights {
         style_stats: extra.style_stats,
         content_shape: extra.content_shape,
-        ..super::losses::StylizerWeights::paper(supervised)
+        hsa: extra.hsa.unwrap_or(paper.hsa),
+        ..paper
     });
     TrainConfig { stylizer_weights: weights, ..TrainConfig::default() }
 }
