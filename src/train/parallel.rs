@@ -8,8 +8,9 @@
 //! Burn's autodiff keeps one graph per connected component and runs a backward pass holding its
 //! graph's lock, and a parameter joins every graph that uses it: each group therefore runs on a
 //! [`Replica`] of the trained network (the same tensors as new leaves, no copy), and the
-//! replicas' gradients are summed under the network's own parameter ids ([`sum_grads`]). The loss of a group is its share of the whole batch's mean, so the summed
-//! gradient is the whole batch's, up to float rounding.
+//! replicas' gradients are summed under the network's own parameter ids ([`sum_grads`]). The
+//! loss of a group is its share of the whole batch's mean, so the summed gradient is the whole
+//! batch's, up to float rounding.
 //!
 //! The number of groups is a setting ([`super::settings::TrainConfig::batch_chunks`]), not the
 //! number of threads: a run gives the same numbers on one core and on two (one core runs the
