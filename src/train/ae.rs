@@ -2,14 +2,14 @@
 //! by side on the same batches of windows drawn uniformly over every training window.
 
 use burn::module::Module;
-use burn::optim::{GradientsParams, ModuleOptimizer};
+use burn::optim::ModuleOptimizer;
 use burn::prelude::*;
 
 use super::data::TrainData;
 use super::eval;
 use super::losses::{autoencoder_loss, autoencoder_noise, l1};
-use super::optim::{adam, clip_grad_norm, optimizers_from_bytes, optimizers_to_bytes, read_scalars};
-use super::parallel::{Replica, map_parallel, row_groups, sum_grads};
+use super::optim::{adam, clip_grad_norm, optimizers_from_bytes, optimizers_to_bytes};
+use super::parallel::{Replica, map_parallel, row_groups, sum_grads, weighted_terms};
 use super::rundir::{load_module, module_bytes};
 use super::sampler::{SamplerRng, batch_tensor};
 use super::settings::TrainConfig;
@@ -106,21 +106,20 @@ impl AeTrainer {
         // side by side.
         let groups = row_groups(&self.device, b, self.train.batch_chunks);
         let split = groups.len() > 1;
-        let replicas: Vec<(Replica<MotionAutoencoder>, Replica<GlobalRegressor>)> = if split {
-            groups.iter().map(|_| (Replica::of(&self.autoencoder), Replica::of(&self.regressor))).collect()
-        } else {
-            Vec::new()
-        };
-        let (autoencoder, regressor, train) = (&self.autoencoder, &self.regressor, &self.train);
+        let shares: Vec<f32> = groups.iter().map(|g| g.len() as f32 / b as f32).collect();
+        let replicas: Vec<(Replica<MotionAutoencoder>, Replica<GlobalRegressor>)> =
+            groups.iter().map(|_| (Replica::of(&self.autoencoder), Replica::of(&self.regressor))).collect();
+        let train = &self.train;
         let forward = |i: usize| {
             let rows = groups[i].clone();
-            let (ae, reg) = replicas.get(i).map_or((autoencoder, regressor), |(a, r)| (&a.module, &r.module));
+            let (ae, reg) = (&replicas[i].0.module, &replicas[i].1.module);
             let x = x.clone().narrow(0, rows.start, rows.len());
             let eps = eps.clone().map(|e| e.narrow(0, rows.start, rows.len()));
             let losses = autoencoder_loss(ae, x.clone(), train, eps);
             let regressor_loss = l1(reg.forward(regressor_input(x.clone())), regressor_target(x));
             let total = losses.total.clone() + regressor_loss.clone();
-            let total = if split { total * (rows.len() as f32 / b as f32) } else { total };
+            // One group: its total as it is (no scaling by 1 in the graph).
+            let total = if split { total * shares[i] } else { total };
             (total, losses, regressor_loss)
         };
         let parallel_forward = self.config.dropout == 0.0;
@@ -133,13 +132,8 @@ impl AeTrainer {
         let t1 = Instant::now();
         let grads = map_parallel(groups.len(), |i| {
             let mut grads = groups_out[i].0.backward();
-            match replicas.get(i) {
-                Some((ae, reg)) => (ae.grads(&mut grads), reg.grads(&mut grads)),
-                None => (
-                    GradientsParams::from_module(&mut grads, autoencoder),
-                    GradientsParams::from_module(&mut grads, regressor),
-                ),
-            }
+            let (ae, reg) = &replicas[i];
+            (ae.grads(&mut grads), reg.grads(&mut grads))
         });
         let (g_ae, g_reg): (Vec<_>, Vec<_>) = grads.into_iter().unzip();
         let mut g_ae = sum_grads(&self.autoencoder, g_ae);
@@ -150,15 +144,10 @@ impl AeTrainer {
         let t3 = Instant::now();
 
         // The batch's terms: each group's means weighted by its share of the rows.
-        let mut terms = [0f32; 6];
-        for (rows, (_, ae, regressor_loss)) in groups.iter().zip(groups_out) {
-            let values = read_scalars([ae.total, ae.reconstruction, ae.sparsity, ae.smoothness, ae.kl, regressor_loss]);
-            let share = rows.len() as f32 / b as f32;
-            for (t, v) in terms.iter_mut().zip(values) {
-                *t += if split { v * share } else { v };
-            }
-        }
-        let [ae_loss, reconstruction, sparsity, smoothness, kl, regressor_loss] = terms;
+        let [ae_loss, reconstruction, sparsity, smoothness, kl, regressor_loss] =
+            weighted_terms(shares.iter().zip(groups_out).map(|(&share, (_, ae, regressor_loss))| {
+                ([ae.total, ae.reconstruction, ae.sparsity, ae.smoothness, ae.kl, regressor_loss], [share; 6])
+            }));
         self.autoencoder = self.optim_ae.step(self.train.lr, self.autoencoder.clone(), g_ae);
         self.regressor = self.optim_regressor.step(self.train.regressor_lr, self.regressor.clone(), g_reg);
         if let Some(p) = &mut self.phases {

@@ -121,6 +121,18 @@ impl<M: Module> Replica<M> {
     }
 }
 
+/// The batch's loss terms from its groups' own: each group's scalars (read back) times its
+/// shares, summed in the groups' order (one group with shares of 1 gives its scalars as they are).
+pub fn weighted_terms<const N: usize>(groups: impl IntoIterator<Item = ([Tensor<1>; N], [f32; N])>) -> [f32; N] {
+    let mut terms = [0f32; N];
+    for (values, shares) in groups {
+        for ((t, v), s) in terms.iter_mut().zip(super::optim::read_scalars(values)).zip(shares) {
+            *t += v * s;
+        }
+    }
+    terms
+}
+
 struct AddGrads<'a> {
     into: &'a mut GradientsParams,
     from: &'a mut GradientsParams,

@@ -2,17 +2,17 @@
 //! latents of a frozen autoencoder, with style-balanced homo-style pairs of windows.
 
 use burn::module::Module;
-use burn::optim::{GradientsParams, ModuleOptimizer};
+use burn::optim::ModuleOptimizer;
 use burn::prelude::*;
 
 use super::data::TrainData;
 use super::eval;
 use super::losses::{LossShares, StyleNoise, StylizerInputs, StylizerWeights, stylizer_loss_drawn};
 use super::optim::{
-    adam, clip_factor, clip_grad_norm, optimizers_from_bytes, optimizers_to_bytes, read_scalars, scale_grads,
-    squared_norm_parts, total_norm,
+    adam, clip_factor, clip_grad_norm, optimizers_from_bytes, optimizers_to_bytes, scale_grads, squared_norm_parts,
+    total_norm,
 };
-use super::parallel::{Replica, map_parallel, row_groups, sum_grads};
+use super::parallel::{Replica, map_parallel, row_groups, sum_grads, weighted_terms};
 use super::rundir::{load_module, module_bytes};
 use super::sampler::{SamplerRng, batch_tensor};
 use super::settings::TrainConfig;
@@ -182,22 +182,14 @@ impl StylizerTrainer {
             })
             .collect();
         let (net, decoder, weights) = (&self.net, &self.autoencoder.decoder, &self.weights);
-        let replicas: Vec<Replica<Stylizer>> =
-            if groups.len() == 1 { Vec::new() } else { groups.iter().map(|_| Replica::of(net)).collect() };
+        let replicas: Vec<Replica<Stylizer>> = groups.iter().map(|_| Replica::of(net)).collect();
         let losses = map_parallel(groups.len(), |i| {
-            let net = replicas.get(i).map_or(net, |r| &r.module);
             let group = inputs.rows(groups[i].clone());
-            stylizer_loss_drawn(net, decoder, &group, weights, eps.rows(groups[i].clone()), shares[i])
+            stylizer_loss_drawn(&replicas[i].module, decoder, &group, weights, eps.rows(groups[i].clone()), shares[i])
         });
 
         let t1 = Instant::now();
-        let grads = map_parallel(losses.len(), |i| {
-            let mut grads = losses[i].total.backward();
-            match replicas.get(i) {
-                Some(replica) => replica.grads(&mut grads),
-                None => GradientsParams::from_module(&mut grads, net),
-            }
-        });
+        let grads = map_parallel(losses.len(), |i| replicas[i].grads(&mut losses[i].total.backward()));
         let mut g = sum_grads(&self.net, grads);
         let t2 = Instant::now();
         // As the reference: one norm over both encoders, one over the generator.
@@ -212,27 +204,22 @@ impl StylizerTrainer {
         let generator_grad_norm = clip_grad_norm(&self.net.generator, &mut g, clip);
         let t3 = Instant::now();
 
-        // The batch's terms: each group's mean weighted by its share (the total is the sum of
-        // the groups' totals, which carry their shares already).
-        let mut terms = [0f32; 9];
-        for (&LossShares { rows: share, paired }, l) in shares.iter().zip(losses) {
-            let values = read_scalars([
-                l.total,
-                l.rec_latent,
-                l.rec_pose,
-                l.cyc_latent,
-                l.cyc_pose,
-                l.kl,
-                l.hsa,
-                l.style_stats,
-                l.content_shape,
-            ]);
-            let scale = [1.0, share, share, share, share, share, share, paired, share];
-            for ((t, v), s) in terms.iter_mut().zip(values).zip(scale) {
-                *t += if groups.len() == 1 { v } else { v * s };
-            }
-        }
-        let [loss, rec_latent, rec_pose, cyc_latent, cyc_pose, kl, hsa, style_stats, content_shape] = terms;
+        // The batch's terms: each group's means weighted by its shares (the totals carry theirs).
+        let [loss, rec_latent, rec_pose, cyc_latent, cyc_pose, kl, hsa, style_stats, content_shape] =
+            weighted_terms(shares.iter().zip(losses).map(|(&LossShares { rows: r, paired }, l)| {
+                let values = [
+                    l.total,
+                    l.rec_latent,
+                    l.rec_pose,
+                    l.cyc_latent,
+                    l.cyc_pose,
+                    l.kl,
+                    l.hsa,
+                    l.style_stats,
+                    l.content_shape,
+                ];
+                (values, [1.0, r, r, r, r, r, r, paired, r])
+            }));
         self.net = self.optim.step(self.train.lr, self.net.clone(), g);
         if let Some(p) = &mut self.phases {
             p.add([t0, t1, t2, t3, Instant::now()]);
