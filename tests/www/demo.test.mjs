@@ -32,10 +32,12 @@ after(async () => {
   server?.close();
 });
 
-async function openPage(url = server.url, viewport = { width: 1366, height: 900 }, init = null) {
+/** `prepare`: called with the new context before the page opens (e.g. to route requests). */
+async function openPage(url = server.url, viewport = { width: 1366, height: 900 }, init = null, prepare = null) {
   const context = await browser.newContext({ viewport, acceptDownloads: true });
   await context.grantPermissions(['clipboard-read', 'clipboard-write'], { origin: new URL(server.url).origin });
   if (init) await context.addInitScript(init);
+  if (prepare) await prepare(context);
   const page = await context.newPage();
   page.on('console', (m) => m.type() === 'error' && problems.push(`console: ${m.text()}`));
   page.on('pageerror', (e) => problems.push(`pageerror: ${e.message}`));
@@ -67,14 +69,37 @@ function bvhShape(text) {
   return { frames, rows, joints: (text.match(/^\s*(ROOT|JOINT) /gm) ?? []).length };
 }
 
-/** Records every text the status line shows (an init script: runs before the page's own). */
+/**
+ * Records every text the status line shows (an init script: runs before the page's own). It watches
+ * the document from the start and keeps each text put into #status, one per mutation record: app.js
+ * replays what the worker said before the page took over synchronously, at module evaluation (before
+ * DOMContentLoaded), and an observer's callback sees such a burst once, so reading the line's text
+ * per callback, or observing from DOMContentLoaded, loses the download progress (CI did).
+ */
 function recordStatus() {
   window.__statuses = [];
-  document.addEventListener('DOMContentLoaded', () => {
-    const line = document.getElementById('status');
-    const record = () => window.__statuses.push(line.textContent);
-    new MutationObserver(record).observe(line, { childList: true, characterData: true, subtree: true });
-  });
+  new MutationObserver((records) => {
+    for (const r of records) {
+      if (r.type === 'childList' && r.target.id === 'status') {
+        for (const n of r.addedNodes) window.__statuses.push(n.textContent);
+      } else if (r.type === 'characterData' && r.target.parentNode?.id === 'status') {
+        window.__statuses.push(r.target.data);
+      }
+    }
+  }).observe(document, { childList: true, characterData: true, subtree: true });
+}
+
+/** The download progress the package reports, up to the whole, then the engine starting, then the first result. */
+async function assertLoadStatuses(page) {
+  const statuses = await page.evaluate(() => window.__statuses);
+  const downloads = statuses.map((t) => /^Downloading the model: ([\d.]+) of ([\d.]+) MB…$/.exec(t)).filter(Boolean);
+  assert.ok(downloads.length >= 2, statuses.join(' | '));
+  const [, last, total] = downloads.at(-1);
+  assert.equal(last, total);
+  assert.ok(Number(total) > 1, `${total} MB`); // the statistics, shared networks and supervised stylizer (issue 17: the unsupervised one later)
+  const started = statuses.indexOf('Starting the engine…');
+  assert.ok(started > statuses.indexOf(downloads.at(-1)[0]), statuses.join(' | '));
+  assert.ok(statuses.findIndex((t) => /Stylized as “old”/.test(t)) > started, statuses.join(' | '));
 }
 
 test('loads with download progress, stylizes the default sample, and shows the first-stylization latency', async () => {
@@ -88,17 +113,34 @@ test('loads with download progress, stylizes the default sample, and shows the f
   assert.equal(await page.isVisible('#error'), false);
   assert.match(await page.textContent('#status'), /Stylized as “old”/);
   assert.equal((await page.$$('#label option')).length, 16);
-  // The download progress the package reports, up to the whole, then the engine starting.
-  const statuses = await page.evaluate(() => window.__statuses);
-  const downloads = statuses.map((t) => /^Downloading the model: ([\d.]+) of ([\d.]+) MB…$/.exec(t)).filter(Boolean);
-  assert.ok(downloads.length >= 2, statuses.join(' | '));
-  const [, last, total] = downloads.at(-1);
-  assert.equal(last, total);
-  assert.ok(Number(total) > 1, `${total} MB`); // the statistics, shared networks and supervised stylizer (issue 17: the unsupervised one later)
-  assert.ok(statuses.indexOf('Starting the engine…') > statuses.indexOf(downloads.at(-1)[0]), statuses.join(' | '));
+  await assertLoadStatuses(page);
   // The weights' fingerprint of share links: the package's, as Node computes it.
   const { Stylizer } = await import(pathToFileURL(`${site}/pkg/index.js`));
   assert.equal(timings.load.weightsId, (await Stylizer.load({ settings: ['supervised'] })).weightsId);
+  await page.context().close();
+});
+
+test('page modules that arrive after the engine has loaded show the progress it reported before them, then the result', async () => {
+  // The head starts the worker before the page's modules arrive (index.html); when they come late
+  // (a slow network, a busy machine: CI), app.js takes over a worker that has said everything already.
+  // app.js is held back until the head's worker has answered its load (all it said is in `said`).
+  let answeredFirst = false;
+  const holdAppJs = (context) =>
+    context.route('**/js/app.js', async (route) => {
+      const page = route.request().frame().page();
+      const deadline = Date.now() + 30_000;
+      while (!answeredFirst && Date.now() < deadline) {
+        answeredFirst = await page
+          .evaluate(() => window.__engineStart?.said.some((d) => d.id === 0 && !d.progress) ?? false)
+          .catch(() => false);
+        if (!answeredFirst) await new Promise((r) => setTimeout(r, 50));
+      }
+      await route.continue();
+    });
+  const page = await openPage(server.url, undefined, recordStatus, holdAppJs);
+  assert.ok(answeredFirst, 'the head\'s worker never answered its load while app.js was held');
+  assert.equal(await page.isVisible('#error'), false);
+  await assertLoadStatuses(page);
   await page.context().close();
 });
 
