@@ -111,7 +111,7 @@ fn main() -> BoxResult<()> {
     let shared = read("shared.bin").ok();
     let supervised_style = read("supervised-style.bin").ok();
     let (manifest, norm, supervised) = (read("manifest.json")?, read("norm.json")?, read("supervised.bin")?);
-    let weights = Weights::from_files(WeightFiles {
+    let mut weights = Weights::from_files(WeightFiles {
         manifest: &manifest,
         norm: &norm,
         shared: shared.as_deref(),
@@ -119,6 +119,8 @@ fn main() -> BoxResult<()> {
         supervised_style: supervised_style.as_deref(),
         ..Default::default()
     })?;
+    // As the CLI and the package load them: inference only (the upsampling layers' folded taps).
+    weights.prepare_for_inference();
     let load_ms = t.elapsed().as_secs_f64() * 1e3;
     let s = weights.model(Setting::Supervised)?;
     let device = s.device().clone();

@@ -14,7 +14,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let path = args.next().ok_or("usage: stylize_bench CONTENT.bvh [REPEATS]")?;
     let repeats: usize = args.next().map(|s| s.parse()).transpose()?.unwrap_or(5);
     let t = Instant::now();
-    let weights = Weights::load_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/weights"))?;
+    let mut weights = Weights::load_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/weights"))?;
+    weights.prepare_for_inference(); // as the CLI and the package load them
     let load_ms = t.elapsed().as_secs_f64() * 1e3;
     let content = skeleton::import_bvh(&std::fs::read_to_string(&path)?)?;
     let old = weights.style("old")?;

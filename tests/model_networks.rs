@@ -5,7 +5,8 @@
 use burn::prelude::*;
 use motion_stylizer::model::classifier::StyleClassifier;
 use motion_stylizer::model::layers::{
-    AdaIn, conv1d_gemm, instance_norm, reflect_pad_time, upsample_nearest2, xavier_conv1d,
+    AdaIn, ConvLayerConfig, conv1d_gemm, conv1d_gemm_cbt, from_cbt, instance_norm, reflect_pad_time, to_cbt,
+    fold_upsampling_taps, upsample2_conv1d_gemm_cbt, upsample_nearest2, xavier_conv1d,
 };
 use motion_stylizer::model::regressor::regressor_input;
 use motion_stylizer::model::weights::{from_f16_bytes, load_bundle, save_bundle, to_f16_bytes};
@@ -171,6 +172,60 @@ fn conv_as_matrix_products_matches_burns_conv() {
     let no_bias = xavier_conv1d(5, 2, 1, 1, 0, false, &device());
     let x = features(&mut rng, 2, 5, 8);
     assert!(max_abs_diff(conv1d_gemm(&no_bias, x.clone()), no_bias.forward(x)) < 1e-5);
+}
+
+/// Inference's upsampling convolution (the taps folded, no upsampled input built) gives the
+/// upsampled convolution's numbers: batch 1 and 3, short and long clips, with and without bias,
+/// the taps folded on the call or beforehand; and a whole upsampling layer (LeakyReLU after it)
+/// takes it only once prepared for inference, on untracked tensors.
+#[test]
+fn upsampling_convolution_with_folded_taps_matches_upsample_then_conv() {
+    let mut rng = NoiseRng::new(5);
+    for &(b, t) in &[(1, 1), (1, 20), (3, 7), (2, 40)] {
+        for bias in [true, false] {
+            let conv = xavier_conv1d(12, 7, 3, 1, 1, bias, &device());
+            let x = features(&mut rng, b, 12, t);
+            let folded = from_cbt(upsample2_conv1d_gemm_cbt(&conv, None, to_cbt(x.clone())));
+            let plain = from_cbt(conv1d_gemm_cbt(&conv, to_cbt(upsample_nearest2(x.clone()))));
+            assert_eq!(folded.dims(), [b, 7, 2 * t]);
+            let diff = max_abs_diff(folded.clone(), plain);
+            assert!(diff < 1e-5, "b{b} t{t} bias {bias}: {diff}");
+            assert!(max_abs_diff(folded.clone(), conv.forward(upsample_nearest2(x.clone()))) < 1e-5);
+            let taps = fold_upsampling_taps(&conv).expect("k3, stride 1, padding 1");
+            assert_eq!(taps.dims(), [14, 24]);
+            let prefolded = from_cbt(upsample2_conv1d_gemm_cbt(&conv, Some(taps), to_cbt(x)));
+            assert_eq!(values(prefolded), values(folded), "b{b} t{t}: the same taps, the same bytes");
+        }
+    }
+    // Other shapes have no folded taps (and the function upsamples, then convolves).
+    assert!(fold_upsampling_taps(&xavier_conv1d(4, 4, 3, 2, 1, true, &device())).is_none());
+    assert!(fold_upsampling_taps(&xavier_conv1d(4, 4, 1, 1, 0, true, &device())).is_none());
+
+    let mut layer = ConvLayerConfig::new(10, 6, 3).up().init(&device());
+    let x = features(&mut rng, 2, 10, 12);
+    let expected = {
+        let y = conv1d_gemm(&layer.conv, upsample_nearest2(x.clone()));
+        burn::tensor::activation::leaky_relu(y, 0.2)
+    };
+    // Not prepared: upsampled, then convolved, byte for byte.
+    assert_eq!(values(layer.forward(x.clone())), values(expected.clone()));
+    // Prepared: the folded taps, within rounding.
+    layer.fold_for_inference();
+    let inference = layer.forward(x.clone());
+    assert_eq!(inference.dims(), [2, 6, 24]);
+    // (Other sums, so some bytes differ: the folded path did run; fixed seed, so not by chance.)
+    assert_ne!(values(inference.clone()), values(expected.clone()));
+    assert!(max_abs_diff(inference, expected.clone()) < 1e-5);
+    // A tracked input (training's graph) never takes the folded taps: the prepared layer gives the
+    // unprepared one's bytes there.
+    let ad = device().autodiff();
+    let unprepared = ConvLayerConfig::new(10, 6, 3).up().init(&ad).load_record(layer.clone().into_record());
+    let mut prepared = unprepared.clone();
+    prepared.fold_for_inference();
+    let xt = || Tensor::<3>::from_data(x.clone().into_data(), &ad).require_grad();
+    let y = prepared.forward(xt());
+    assert!(max_abs_diff(y.clone().inner(), expected) < 1e-5);
+    assert_eq!(values(y), values(unprepared.forward(xt())));
 }
 
 #[test]

@@ -160,7 +160,8 @@ pub fn default_weights_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("assets").join("weights")
 }
 
-/// Loads the weights folder onto the CPU, with an error that says what to do when there is none.
+/// Loads the weights folder onto the CPU, with an error that says what to do when there is none;
+/// for stylizing and evaluating only ([`Weights::prepare_for_inference`]: never train them).
 pub fn load_weights(dir: &Path) -> anyhow::Result<Weights> {
     load_weights_on(&burn::tensor::Device::flex(), dir)
 }
@@ -170,7 +171,10 @@ pub fn load_weights_on(device: &burn::tensor::Device, dir: &Path) -> anyhow::Res
     if !dir.join("manifest.json").is_file() {
         bail!("no trained weights at {}; train them (README) or pass --weights DIR", dir.display());
     }
-    Weights::load_dir_on(device, dir).with_context(|| format!("cannot load the weights at {}", dir.display()))
+    let mut weights =
+        Weights::load_dir_on(device, dir).with_context(|| format!("cannot load the weights at {}", dir.display()))?;
+    weights.prepare_for_inference();
+    Ok(weights)
 }
 
 /// The compute device `--device` names, with what it is said on stderr when not the CPU.

@@ -202,6 +202,7 @@ impl ConvLayerConfig {
             instance_norm: self.instance_norm,
             dropout: (self.dropout > 0.0).then(|| DropoutConfig::new(self.dropout).init()),
             activate: self.activate,
+            folded: None,
         }
     }
 }
@@ -215,9 +216,27 @@ pub struct ConvLayer {
     pub instance_norm: bool,
     pub dropout: Option<Dropout>,
     pub activate: bool,
+    /// An upsampling layer's folded taps, once [`ConvLayer::fold_for_inference`] has computed them
+    /// (not part of the weights; never set in training).
+    #[module(skip)]
+    folded: Option<Tensor<2>>,
 }
 
 impl ConvLayer {
+    /// Inference only: computes an upsampling layer's folded taps once
+    /// ([`fold_upsampling_taps`]), so that its forward convolves the frames as they are
+    /// ([`upsample2_conv1d_gemm_cbt`]): 2/3 of the multiply-adds, without the upsampled copy.
+    /// Computing them on every call costs more than it saves at one sample (1.5-1.8x slower), so
+    /// without this the layer upsamples then convolves. The taps are a copy of the weights as they
+    /// are now: a layer that is trained or gets other weights afterwards must not have them
+    /// (`stylize::Weights::prepare_for_inference` calls this; trainers never do). Other layers:
+    /// nothing.
+    pub fn fold_for_inference(&mut self) {
+        if self.upsample && self.reflect_pad == 0 {
+            self.folded = fold_upsampling_taps(&self.conv);
+        }
+    }
+
     /// `x`: `[B, C_in, T]` → `[B, C_out, T']`.
     pub fn forward(&self, x: Tensor<3>) -> Tensor<3> {
         from_cbt(self.forward_cbt(to_cbt(x)))
@@ -227,13 +246,19 @@ impl ConvLayer {
     /// [`to_cbt`]): chains of layers stay in it, so the convolution's matrix product needs no
     /// transposition of its input or output (in training, none in the backward either).
     pub fn forward_cbt(&self, x: Tensor<3>) -> Tensor<3> {
-        let x = if self.upsample { upsample_nearest2(x) } else { x };
-        let x = reflect_pad_time(x, self.reflect_pad);
-        // The convolution as one matrix product for the batch on the weights as stored, in
-        // inference and in training (there differentiated as plain tensor ops: its backward is two
-        // matrix products, 1.3-1.9x faster than Burn's convolution backward on flex;
-        // `examples/conv_train_bench.rs`).
-        let mut x = conv1d_gemm_cbt(&self.conv, x);
+        let folded = self.folded.as_ref().filter(|f| !x.is_tracked() && f.device() == x.device());
+        let mut x = if let Some(folded) = folded {
+            // Inference: the upsampling and the convolution in one, on the frames as they are.
+            upsample2_conv1d_gemm_cbt(&self.conv, Some(folded.clone()), x)
+        } else {
+            let x = if self.upsample { upsample_nearest2(x) } else { x };
+            let x = reflect_pad_time(x, self.reflect_pad);
+            // The convolution as one matrix product for the batch on the weights as stored, in
+            // inference and in training (there differentiated as plain tensor ops: its backward is
+            // two matrix products, 1.3-1.9x faster than Burn's convolution backward on flex;
+            // `examples/conv_train_bench.rs`).
+            conv1d_gemm_cbt(&self.conv, x)
+        };
         if self.instance_norm {
             x = instance_norm(x);
         }
@@ -351,6 +376,65 @@ pub fn conv1d_gemm_cbt(conv: &Conv1d, x: Tensor<3>) -> Tensor<3> {
         None => out,
     };
     out.reshape([c_out, b, t_out])
+}
+
+/// The folded taps of `conv` (kernel 3, stride 1, zero padding 1) after nearest ×2 upsampling,
+/// `[2·C_out, C_in·2]`: `[W₀, W₁+W₂]` for the even outputs over `[W₀+W₁, W₂]` for the odd ones
+/// (see [`upsample2_conv1d_gemm_cbt`]); `None` for other shapes.
+pub fn fold_upsampling_taps(conv: &Conv1d) -> Option<Tensor<2>> {
+    let [c_out, c_in, k] = conv.weight.dims();
+    if k != 3 || conv.stride != 1 || gemm_padding(conv) != Some(1) {
+        return None;
+    }
+    // Built on the weight's taps as rows `[3, C_out·C_in]` (one transposing copy, then every
+    // slice, sum and stack is of whole rows), turned back to `[C_out, C_in·2]` per parity by one
+    // transposing copy and stacked even over odd. (Slicing the taps out of the weight as stored,
+    // `narrow` on its last dimension then `cat`, goes element by element in flex: 3x slower.)
+    let n = c_out * c_in;
+    // (Reshaping the transposed view lays it out: flex reshapes a strided view by copying it.)
+    let taps = conv.weight.val().reshape([n, 3]).transpose().reshape([3 * n]).reshape([3, n]);
+    let tap = |j: usize| taps.clone().narrow(0, j, 1);
+    let parity = |a: Tensor<2>, b: Tensor<2>| Tensor::cat(vec![a, b], 0).transpose().reshape([c_out, c_in * 2]);
+    let even = parity(tap(0), tap(1) + tap(2));
+    let odd = parity(tap(0) + tap(1), tap(2));
+    Some(Tensor::cat(vec![even, odd], 0))
+}
+
+/// `conv` (kernel 3, stride 1, zero padding 1) on `x` upsampled ×2 by repeating each frame, on the
+/// batch-inner layout: `[C_in, B, T]` → `[C_out, B, 2T]`, without building the upsampled input;
+/// `folded`: [`fold_upsampling_taps`] of `conv` if computed already.
+///
+/// With `u` the upsampled frames (`u[2s] = u[2s+1] = x[s]`) output `2s` reads `(x[s-1], x[s], x[s])`
+/// and output `2s+1` reads `(x[s], x[s], x[s+1])` (zeros past either end): a two-tap convolution
+/// of `x` with the taps folded, `[W₀, W₁+W₂]` for the even outputs and `[W₀+W₁, W₂]` for the odd
+/// ones. Both read the same windows of two frames, so one product of the stacked folded weights
+/// `[2·C_out, C_in·2]` with the columns `[C_in·2, B·(T+1)]` gives both, then they are interleaved.
+/// Two thirds of the multiply-adds of the upsampled convolution and a third of its columns. The
+/// sums differ from the upsampled convolution's by float rounding only (the folded taps are added
+/// first: outputs within 6e-6 of the network's before, `bench/README.md`); inference only —
+/// training differentiates the upsampled convolution as written. Other shapes fall back to
+/// upsampling then [`conv1d_gemm_cbt`].
+pub fn upsample2_conv1d_gemm_cbt(conv: &Conv1d, folded: Option<Tensor<2>>, x: Tensor<3>) -> Tensor<3> {
+    let Some(folded) = folded.or_else(|| fold_upsampling_taps(conv)) else {
+        return conv1d_gemm_cbt(conv, upsample_nearest2(x));
+    };
+    let [c_out, c_in, _] = conv.weight.dims();
+    let [_, b, t] = x.dims();
+    let zeros = Tensor::<3>::zeros([c_in, b, 1], &x.device());
+    let padded = Tensor::cat(vec![zeros.clone(), x, zeros], 2);
+    // Windows of two frames (a view), laid out `[C_in, 2, B, T+1]` by one copy.
+    let cols = padded.unfold::<4, _>(2, 2, 1).permute([0, 3, 1, 2]).reshape([c_in * 2, b * (t + 1)]);
+    let out = folded.matmul(cols).reshape([2, c_out, b, t + 1]);
+    // Even outputs are windows 0..T, odd ones 1..T+1: the two aligned by one copy along the outer
+    // dimension (a concatenation along the inner one goes element by element in flex), then
+    // interleaved by one transposing copy.
+    let even = out.clone().narrow(0, 0, 1).narrow(3, 0, t);
+    let odd = out.narrow(0, 1, 1).narrow(3, 1, t);
+    let out = Tensor::cat(vec![even, odd], 0).permute([1, 2, 3, 0]).reshape([c_out, b, 2 * t]);
+    match &conv.bias {
+        Some(bias) => out + bias.val().reshape([c_out, 1, 1]),
+        None => out,
+    }
 }
 
 /// Adaptive instance normalisation: `γ · IN(x) + β`, with `[γ ; β]` from one linear layer on the

@@ -45,6 +45,19 @@ pub struct MotionModel {
 }
 
 impl MotionModel {
+    /// Inference only: the upsampling layers' folded taps computed once (decoder `up1`, `up2`;
+    /// every generator block that upsamples), see [`super::layers::ConvLayer::fold_for_inference`].
+    /// Never on networks that are trained or get other weights afterwards.
+    pub fn fold_for_inference(&mut self) {
+        let decoder = &mut self.autoencoder.decoder;
+        decoder.up1.fold_for_inference();
+        decoder.up2.fold_for_inference();
+        let generator = &mut self.stylizer.generator;
+        for block in [&mut generator.block1, &mut generator.block2, &mut generator.block3] {
+            block.conv.fold_for_inference();
+        }
+    }
+
     /// Networks with lazily initialised weights (drawn from Burn's shared generator at first
     /// use): the cheap template to load weights into. For reproducible weights use
     /// [`MotionModel::seeded`].

@@ -70,7 +70,8 @@ impl Engine {
             unsupervised: unsupervised.as_deref(),
             ..Default::default()
         };
-        let weights = Weights::from_files_on(&device, files).map_err(|e| stylize_error(&e))?;
+        let mut weights = Weights::from_files_on(&device, files).map_err(|e| stylize_error(&e))?;
+        weights.prepare_for_inference();
         Ok(Engine { weights: Rc::new(weights), backend })
     }
 
@@ -97,7 +98,8 @@ impl Engine {
             unsupervised: unsupervised.as_deref(),
             ..Default::default()
         };
-        let weights = Weights::from_files_on(&device, files).map_err(|e| stylize_error(&e))?;
+        let mut weights = Weights::from_files_on(&device, files).map_err(|e| stylize_error(&e))?;
+        weights.prepare_for_inference();
         Ok(Engine { weights: Rc::new(weights), backend: "webgpu" })
     }
 
