@@ -204,7 +204,7 @@ impl Weights {
             other => other,
         };
         let labels = self.manifest.styles.len();
-        let model = match &self.shared {
+        let mut model = match &self.shared {
             None => {
                 check_config(&bundle_header(bytes).map_err(context)?, setting, labels).map_err(context)?;
                 // The bundle's f16 tensors are read on flex (which casts them to f32) and the f32
@@ -242,7 +242,6 @@ impl Weights {
                 None => None,
             };
         }
-        let mut model = model;
         if self.inference_only {
             model.nets.fold_for_inference();
         }
@@ -255,10 +254,10 @@ impl Weights {
 
     /// For weights that only stylize and evaluate (the CLI's `stylize` and `eval`, the wasm
     /// engine), never trained: the upsampling layers' folded taps computed once
-    /// ([`MotionModel::fold_for_inference`]), here
-    /// and for every model loaded later. The networks then convolve the un-upsampled frames: the
-    /// same outputs up to float rounding (within 6e-6 of the motion), 7-15 % less time for a batch
-    /// of samples (`bench/README.md`). Trainers that start from these weights must not call it.
+    /// ([`MotionModel::fold_for_inference`]), here and for every model loaded later. The networks
+    /// then convolve the un-upsampled frames: the same outputs up to float rounding (within 6e-6
+    /// of the motion), 8-15 % less time for one to ten samples (`bench/README.md`). Trainers that
+    /// start from these weights must not call it.
     pub fn prepare_for_inference(&mut self) {
         self.inference_only = true;
         for model in [self.supervised.as_mut(), self.unsupervised.as_mut()].into_iter().flatten() {
