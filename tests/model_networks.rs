@@ -5,8 +5,9 @@
 use burn::prelude::*;
 use motion_stylizer::model::classifier::StyleClassifier;
 use motion_stylizer::model::layers::{
-    AdaIn, ConvLayerConfig, conv1d_gemm, conv1d_gemm_cbt, from_cbt, instance_norm, reflect_pad_time, to_cbt,
-    fold_upsampling_taps, upsample2_conv1d_gemm_cbt, upsample_nearest2, xavier_conv1d,
+    AdaIn, ConvLayerConfig, SHIFTED_MIN_BATCH, conv1d_gemm, conv1d_gemm_cbt, conv3_shifted_cbt, fold_upsampling_taps,
+    from_cbt, instance_norm, reflect_pad_time, split_taps, to_cbt, upsample_nearest2, upsample2_conv1d_gemm_cbt,
+    xavier_conv1d,
 };
 use motion_stylizer::model::regressor::regressor_input;
 use motion_stylizer::model::weights::{from_f16_bytes, load_bundle, save_bundle, to_f16_bytes};
@@ -226,6 +227,59 @@ fn upsampling_convolution_with_folded_taps_matches_upsample_then_conv() {
     let y = prepared.forward(xt());
     assert!(max_abs_diff(y.clone().inner(), expected) < 1e-5);
     assert_eq!(values(y), values(unprepared.forward(xt())));
+}
+
+/// Inference's kernel-3 convolution as three products on shifted views of the clips padded side
+/// by side (no columns built) gives the column product's numbers: zero padding (the convolution's
+/// own) and reflection padding (the layer's, before a convolution without padding), batches of 1
+/// to 6, clips of 2 to 40 frames, with and without bias; and a whole layer takes it only once
+/// prepared, from `SHIFTED_MIN_BATCH` clips on, on untracked tensors.
+#[test]
+fn kernel3_convolution_as_shifted_products_matches_the_columns() {
+    let mut rng = NoiseRng::new(8);
+    for &(b, t) in &[(1, 2), (4, 3), (5, 20), (6, 40)] {
+        for bias in [true, false] {
+            for reflect in [false, true] {
+                let conv = xavier_conv1d(12, 7, 3, 1, if reflect { 0 } else { 1 }, bias, &device());
+                let x = features(&mut rng, b, 12, t);
+                let padded = if reflect { reflect_pad_time(x.clone(), 1) } else { x.clone() };
+                let columns = from_cbt(conv1d_gemm_cbt(&conv, to_cbt(padded.clone())));
+                let taps = split_taps(&conv);
+                assert_eq!(taps.dims(), [3, 7, 12]);
+                let shifted = from_cbt(conv3_shifted_cbt(&conv, &taps, to_cbt(x.clone()), reflect));
+                assert_eq!(shifted.dims(), [b, 7, t]);
+                let diff = max_abs_diff(shifted.clone(), columns);
+                assert!(diff < 1e-5, "b{b} t{t} bias {bias} reflect {reflect}: {diff}");
+                assert!(max_abs_diff(shifted, conv.forward(padded)) < 1e-5, "b{b} t{t}: Burn's convolution");
+            }
+        }
+    }
+
+    for reflect in [false, true] {
+        let config = ConvLayerConfig::new(10, 6, 3);
+        let mut layer = if reflect { config } else { config.zero_padded() }.init(&device());
+        let x = features(&mut rng, SHIFTED_MIN_BATCH, 10, 12);
+        let expected = layer.forward(x.clone());
+        layer.fold_for_inference();
+        let inference = layer.forward(x.clone());
+        assert_eq!(inference.dims(), [SHIFTED_MIN_BATCH, 6, 12]);
+        // (Other sums, so some bytes differ: the shifted path did run; fixed seed, so not by chance.)
+        assert_ne!(values(inference.clone()), values(expected.clone()), "reflect {reflect}");
+        assert!(max_abs_diff(inference, expected.clone()) < 1e-5);
+        // Below the batch threshold: the columns, byte for byte.
+        let small = x.clone().narrow(0, 0, SHIFTED_MIN_BATCH - 1);
+        assert_eq!(values(layer.forward(small.clone())), values(expected.clone().narrow(0, 0, SHIFTED_MIN_BATCH - 1)));
+        // A tracked input never takes it.
+        let ad = device().autodiff();
+        let xt = Tensor::<3>::from_data(x.clone().into_data(), &ad).require_grad();
+        let unprepared = ConvLayerConfig::new(10, 6, 3);
+        let unprepared = if reflect { unprepared } else { unprepared.zero_padded() }
+            .init(&ad)
+            .load_record(layer.clone().into_record());
+        let mut prepared = unprepared.clone();
+        prepared.fold_for_inference();
+        assert_eq!(values(prepared.forward(xt.clone())), values(unprepared.forward(xt)));
+    }
 }
 
 #[test]

@@ -202,7 +202,7 @@ impl ConvLayerConfig {
             instance_norm: self.instance_norm,
             dropout: (self.dropout > 0.0).then(|| DropoutConfig::new(self.dropout).init()),
             activate: self.activate,
-            folded: None,
+            prepared: None,
         }
     }
 }
@@ -216,24 +216,51 @@ pub struct ConvLayer {
     pub instance_norm: bool,
     pub dropout: Option<Dropout>,
     pub activate: bool,
-    /// An upsampling layer's folded taps, once [`ConvLayer::fold_for_inference`] has computed them
-    /// (not part of the weights; never set in training).
+    /// The taps inference convolves with, once [`ConvLayer::fold_for_inference`] has computed
+    /// them (not part of the weights; never set in training).
     #[module(skip)]
-    folded: Option<Tensor<2>>,
+    prepared: Option<PreparedTaps>,
+}
+
+/// What [`ConvLayer::fold_for_inference`] computes once from a layer's weights.
+#[derive(Clone, Debug)]
+enum PreparedTaps {
+    /// An upsampling layer's folded taps ([`fold_upsampling_taps`]), `[2·C_out, 2·C_in]`.
+    Upsampling(Tensor<2>),
+    /// A kernel-3, stride-1 layer's taps one after another ([`split_taps`]), `[3, C_out, C_in]`.
+    Shifted(Tensor<3>),
 }
 
 impl ConvLayer {
-    /// Inference only: computes an upsampling layer's folded taps once
-    /// ([`fold_upsampling_taps`]), so that its forward convolves the frames as they are
-    /// ([`upsample2_conv1d_gemm_cbt`]): 2/3 of the multiply-adds, without the upsampled copy.
-    /// Computing them on every call costs more than it saves at one sample (1.5-1.8x slower), so
-    /// without this the layer upsamples then convolves. The taps are a copy of the weights as they
-    /// are now: a layer that is trained or gets other weights afterwards must not have them
-    /// (`stylize::Weights::prepare_for_inference` calls this; trainers never do). Other layers:
-    /// nothing.
+    /// Inference only: computes once the taps the layer's forward then convolves with, for the
+    /// layers where that saves copies: an upsampling layer's folded taps
+    /// ([`fold_upsampling_taps`]: it convolves the frames as they are, [`upsample2_conv1d_gemm_cbt`],
+    /// 2/3 of the multiply-adds, without the upsampled copy), and a kernel-3, stride-1 layer's taps
+    /// one after another ([`split_taps`]: three products on shifted views of the padded frames,
+    /// [`conv3_shifted_cbt`], without building columns). Computing them on every call costs more
+    /// than it saves at one sample (the folded taps: 1.5-1.8x slower), so without this the layer
+    /// upsamples and builds columns. The taps are a copy of the weights as they are now: a layer
+    /// that is trained or gets other weights afterwards must not have them
+    /// (`stylize::Weights::prepare_for_inference` calls this; trainers never do). Other layers
+    /// (stride 2, kernel 1): nothing.
     pub fn fold_for_inference(&mut self) {
-        if self.upsample && self.reflect_pad == 0 {
-            self.folded = fold_upsampling_taps(&self.conv);
+        let [_, _, k] = self.conv.weight.dims();
+        self.prepared = if self.upsample && self.reflect_pad == 0 {
+            fold_upsampling_taps(&self.conv).map(PreparedTaps::Upsampling)
+        } else if !self.upsample && k == 3 && self.conv.stride == 1 && self.padding().is_some() {
+            Some(PreparedTaps::Shifted(split_taps(&self.conv)))
+        } else {
+            None
+        };
+    }
+
+    /// The kernel-3 layer's padding as [`conv3_shifted_cbt`] takes it: reflection (`true`) or zero
+    /// (`false`) padding of 1 on either side; `None` for other paddings.
+    fn padding(&self) -> Option<bool> {
+        match (self.reflect_pad, gemm_padding(&self.conv)) {
+            (1, Some(0)) => Some(true),
+            (0, Some(1)) => Some(false),
+            _ => None,
         }
     }
 
@@ -246,18 +273,29 @@ impl ConvLayer {
     /// [`to_cbt`]): chains of layers stay in it, so the convolution's matrix product needs no
     /// transposition of its input or output (in training, none in the backward either).
     pub fn forward_cbt(&self, x: Tensor<3>) -> Tensor<3> {
-        let folded = self.folded.as_ref().filter(|f| !x.is_tracked() && f.device() == x.device());
-        let mut x = if let Some(folded) = folded {
+        let prepared = self.prepared.as_ref().filter(|_| !x.is_tracked());
+        let mut x = match (prepared, self.padding()) {
             // Inference: the upsampling and the convolution in one, on the frames as they are.
-            upsample2_conv1d_gemm_cbt(&self.conv, Some(folded.clone()), x)
-        } else {
-            let x = if self.upsample { upsample_nearest2(x) } else { x };
-            let x = reflect_pad_time(x, self.reflect_pad);
-            // The convolution as one matrix product for the batch on the weights as stored, in
-            // inference and in training (there differentiated as plain tensor ops: its backward is
-            // two matrix products, 1.3-1.9x faster than Burn's convolution backward on flex;
-            // `examples/conv_train_bench.rs`).
-            conv1d_gemm_cbt(&self.conv, x)
+            (Some(PreparedTaps::Upsampling(folded)), _) if folded.device() == x.device() => {
+                upsample2_conv1d_gemm_cbt(&self.conv, Some(folded.clone()), x)
+            }
+            // Inference: three products on shifted views of the padded frames, no columns.
+            (Some(PreparedTaps::Shifted(taps)), Some(reflect))
+                if taps.device() == x.device()
+                    && x.dims()[1] >= SHIFTED_MIN_BATCH
+                    && (!reflect || x.dims()[2] >= 2) =>
+            {
+                conv3_shifted_cbt(&self.conv, taps, x, reflect)
+            }
+            _ => {
+                let x = if self.upsample { upsample_nearest2(x) } else { x };
+                let x = reflect_pad_time(x, self.reflect_pad);
+                // The convolution as one matrix product for the batch on the weights as stored, in
+                // inference and in training (there differentiated as plain tensor ops: its backward is
+                // two matrix products, 1.3-1.9x faster than Burn's convolution backward on flex;
+                // `examples/conv_train_bench.rs`).
+                conv1d_gemm_cbt(&self.conv, x)
+            }
         };
         if self.instance_norm {
             x = instance_norm(x);
@@ -435,6 +473,63 @@ pub fn upsample2_conv1d_gemm_cbt(conv: &Conv1d, folded: Option<Tensor<2>>, x: Te
         Some(bias) => out + bias.val().reshape([c_out, 1, 1]),
         None => out,
     }
+}
+
+/// The smallest batch [`conv3_shifted_cbt`] is used for (the layers take [`conv1d_gemm_cbt`]
+/// below it). Measured natively, one thread, on the AMD EPYC family 25 model 1 (Zen 3, AVX2) with
+/// both paths in one process taking turns (bench/README.md): a 160-frame label-based batch
+/// of 10 samples 4-7 % faster, of 4 the same, of 2 3-4 % slower and of 1 13 % slower (three
+/// products of a few frames each cost more than the one column copy they save).
+pub const SHIFTED_MIN_BATCH: usize = 4;
+
+/// A kernel-3 convolution's taps one after another, `[3, C_out, C_in]` (tap `j` is
+/// `weight[:, :, j]`), for [`conv3_shifted_cbt`]. Built on the weight's taps as rows (one
+/// transposing copy; flex reshapes a transposed view by laying it out).
+pub fn split_taps(conv: &Conv1d) -> Tensor<3> {
+    let [c_out, c_in, k] = conv.weight.dims();
+    assert_eq!(k, 3, "split_taps: a kernel of 3, got {k}");
+    conv.weight.val().reshape([c_out * c_in, 3]).transpose().reshape([3 * c_out * c_in]).reshape([3, c_out, c_in])
+}
+
+/// `conv` (kernel 3, stride 1; `reflect`: the layer's reflection padding of 1 before a
+/// convolution without padding, else the convolution's own zero padding of 1) on the batch-inner
+/// layout `[C_in, B, T]` → `[C_out, B, T]`, inference only, with `taps` = [`split_taps`]`(conv)`:
+/// no columns. The clips are padded side by side into one sequence, with a clip of zeros after
+/// the last — reflection: `[x₁, x₀ … x_{T−1}, x_{T−2}]` per clip, `L = T + 2` frames; zero
+/// padding: one zero frame before each clip, which is also the previous clip's right padding,
+/// `L = T + 1` — and viewed as a matrix `[C_in, (B+1)·L]`. Output frame `t` of clip `b` is
+/// column `p = b·L + t` of `Σⱼ Wⱼ · (columns j … j + B·L of that matrix)`: three products on
+/// shifted views (flex hands their strides to gemm: nothing is copied), summed, then viewed as
+/// `[C_out, B, L]` and cut to `T` frames. One copy of the input (the padding) instead of two, the
+/// second of them the tap-by-tap column build (`copy_2d_tiled`, a fifth of the ten-sample batch's
+/// time natively on an AVX2 machine); the same multiply-adds plus `2/T` for the padding columns.
+/// The sums differ from [`conv1d_gemm_cbt`]'s by float rounding only (three partial sums).
+/// Reflection needs `T ≥ 2`.
+pub fn conv3_shifted_cbt(conv: &Conv1d, taps: &Tensor<3>, x: Tensor<3>, reflect: bool) -> Tensor<3> {
+    let [_, c_out, c_in] = taps.dims();
+    let [_, b, t] = x.dims();
+    let device = x.device();
+    let (padded, l) = if reflect {
+        let l = t + 2;
+        let padded = Tensor::<3>::zeros([c_in, b + 1, l], &device)
+            .slice_assign([0..c_in, 0..b, 0..1], x.clone().narrow(2, 1, 1))
+            .slice_assign([0..c_in, 0..b, t + 1..t + 2], x.clone().narrow(2, t - 2, 1))
+            .slice_assign([0..c_in, 0..b, 1..t + 1], x);
+        (padded, l)
+    } else {
+        // Batch: one clip of zeros after the last; time: one zero frame before each clip.
+        (x.pad([(0, 1), (1, 0)], burn::tensor::ops::PadMode::Constant(0.0)), t + 1)
+    };
+    let n = b * l;
+    let flat = padded.reshape([c_in, (b + 1) * l]);
+    let tap = |j: usize| taps.clone().narrow(0, j, 1).reshape([c_out, c_in]);
+    let shifted = |j: usize| tap(j).matmul(flat.clone().narrow(1, j, n));
+    let mut out = shifted(0) + shifted(1);
+    out = out + shifted(2);
+    if let Some(bias) = &conv.bias {
+        out = out + bias.val().reshape([c_out, 1]);
+    }
+    out.reshape([c_out, b, l]).narrow(2, 0, t)
 }
 
 /// Adaptive instance normalisation: `γ · IN(x) + β`, with `[γ ; β]` from one linear layer on the

@@ -45,16 +45,27 @@ pub struct MotionModel {
 }
 
 impl MotionModel {
-    /// Inference only: the upsampling layers' folded taps computed once (decoder `up1`, `up2`;
-    /// every generator block that upsamples), see [`super::layers::ConvLayer::fold_for_inference`].
-    /// Never on networks that are trained or get other weights afterwards.
+    /// Inference only: the taps of the layers a stylization runs through computed once, see
+    /// [`super::layers::ConvLayer::fold_for_inference`] — the upsampling layers' folded taps
+    /// (decoder `up1`, `up2`, the generator block that upsamples) and the kernel-3, stride-1
+    /// layers' split taps (decoder `first`, the other generator blocks, the regressor's three
+    /// convolutions). Never on networks that are trained or get other weights afterwards.
     pub fn fold_for_inference(&mut self) {
         let decoder = &mut self.autoencoder.decoder;
-        decoder.up1.fold_for_inference();
-        decoder.up2.fold_for_inference();
         let generator = &mut self.stylizer.generator;
-        for block in [&mut generator.block1, &mut generator.block2, &mut generator.block3] {
-            block.conv.fold_for_inference();
+        let regressor = &mut self.regressor;
+        for layer in [
+            &mut decoder.first,
+            &mut decoder.up1,
+            &mut decoder.up2,
+            &mut generator.block1.conv,
+            &mut generator.block2.conv,
+            &mut generator.block3.conv,
+            &mut regressor.conv1,
+            &mut regressor.conv2,
+            &mut regressor.conv3,
+        ] {
+            layer.fold_for_inference();
         }
     }
 
