@@ -268,7 +268,7 @@ fn kernel3_convolution_as_shifted_products_matches_the_columns() {
         assert!(max_abs_diff(inference, expected.clone()) < 1e-5);
         // Below the batch threshold: the columns, byte for byte.
         let small = x.clone().narrow(0, 0, SHIFTED_MIN_BATCH - 1);
-        assert_eq!(values(layer.forward(small.clone())), values(expected.clone().narrow(0, 0, SHIFTED_MIN_BATCH - 1)));
+        assert_eq!(values(layer.forward(small)), values(expected.clone().narrow(0, 0, SHIFTED_MIN_BATCH - 1)));
         // A tracked input never takes it.
         let ad = device().autodiff();
         let xt = Tensor::<3>::from_data(x.clone().into_data(), &ad).require_grad();

@@ -424,13 +424,12 @@ pub fn fold_upsampling_taps(conv: &Conv1d) -> Option<Tensor<2>> {
     if k != 3 || conv.stride != 1 || gemm_padding(conv) != Some(1) {
         return None;
     }
-    // Built on the weight's taps as rows `[3, C_out·C_in]` (one transposing copy, then every
-    // slice, sum and stack is of whole rows), turned back to `[C_out, C_in·2]` per parity by one
-    // transposing copy and stacked even over odd. (Slicing the taps out of the weight as stored,
-    // `narrow` on its last dimension then `cat`, goes element by element in flex: 3x slower.)
-    let n = c_out * c_in;
-    // (Reshaping the transposed view lays it out: flex reshapes a strided view by copying it.)
-    let taps = conv.weight.val().reshape([n, 3]).transpose().reshape([3 * n]).reshape([3, n]);
+    // Built on the weight's taps as rows `[3, C_out·C_in]` ([`split_taps`]: one transposing copy,
+    // then every slice, sum and stack is of whole rows), turned back to `[C_out, C_in·2]` per
+    // parity by one transposing copy and stacked even over odd. (Slicing the taps out of the
+    // weight as stored, `narrow` on its last dimension then `cat`, goes element by element in
+    // flex: 3x slower.)
+    let taps = split_taps(conv).reshape([3, c_out * c_in]);
     let tap = |j: usize| taps.clone().narrow(0, j, 1);
     let parity = |a: Tensor<2>, b: Tensor<2>| Tensor::cat(vec![a, b], 0).transpose().reshape([c_out, c_in * 2]);
     let even = parity(tap(0), tap(1) + tap(2));
@@ -488,7 +487,9 @@ pub const SHIFTED_MIN_BATCH: usize = 4;
 pub fn split_taps(conv: &Conv1d) -> Tensor<3> {
     let [c_out, c_in, k] = conv.weight.dims();
     assert_eq!(k, 3, "split_taps: a kernel of 3, got {k}");
-    conv.weight.val().reshape([c_out * c_in, 3]).transpose().reshape([3 * c_out * c_in]).reshape([3, c_out, c_in])
+    let n = c_out * c_in;
+    // (Reshaping the transposed view lays it out: flex reshapes a strided view by copying it.)
+    conv.weight.val().reshape([n, 3]).transpose().reshape([3 * n]).reshape([3, c_out, c_in])
 }
 
 /// `conv` (kernel 3, stride 1; `reflect`: the layer's reflection padding of 1 before a
