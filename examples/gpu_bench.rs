@@ -90,7 +90,8 @@ mod bench {
         })?;
         let mut st = StylizerTrainer::new(config, TrainConfig::default(), ae.autoencoder.clone(), device, 2);
         drop(ae);
-        let batch = StylizerBatch { motion1, motion2, labels: Some(labels), content_paired: Vec::new() };
+        let batch =
+            StylizerBatch { motion1, motion2, labels: Some(labels), content_paired: Vec::new(), style_source: None };
         let st_s = time_steps(steps, || {
             st.step(&batch)?;
             Ok(())

@@ -92,6 +92,7 @@ mod bench {
                     motion2: x2.clone(),
                     labels: Some(labels),
                     content_paired: Vec::new(),
+                    style_source: None,
                 };
                 let st_s = time_steps(steps, || {
                     st.phases = Some(PhaseTimes::default());

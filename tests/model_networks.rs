@@ -463,3 +463,49 @@ fn f16_weights_round_trip() {
     assert!(from_f16_bytes(ContentEncoder::new(&cfg, &dev), &bytes).is_err());
     assert!(load_bundle(b"garbage", &dev).is_err());
 }
+
+/// Issue 14, the posture path (`ModelConfig::content_posture`): the content code carries the
+/// content latent's mean over time in its extra channels; a network grown from weights without
+/// the path (`train stylizer --from … --content-posture`) starts with the map at zero and gives
+/// those weights' outputs; a map that is not zero adds `W·mean` at every step of the output.
+#[test]
+fn the_posture_path_starts_at_zero_and_adds_a_map_of_the_contents_mean() {
+    use burn::nn::{Initializer, LinearConfig};
+    use motion_stylizer::model::Stylizer;
+    use motion_stylizer::model::init::seeded_xavier;
+    let dev = device();
+    let off = small(true);
+    let on = off.clone().with_content_posture(true);
+    assert_eq!(on.content_code_dim(), off.content_dim + off.latent_dim);
+    let old = seeded_xavier(Stylizer::new(&off, &dev), 1);
+    let (mut grown, added) =
+        motion_stylizer::train::finetune::grow(&old, seeded_xavier(Stylizer::new(&on, &dev), 2)).unwrap();
+    assert!(added.iter().any(|p| p.starts_with("generator.posture")), "{added:?}");
+
+    let mut rng = NoiseRng::new(3);
+    let z = features(&mut rng, 2, off.latent_dim, 8);
+    let code = grown.content_encoder.forward(z.clone());
+    assert_eq!(code.dims(), [2, on.content_code_dim(), 4]);
+    let plain = old.content_encoder.forward(z.clone());
+    assert_eq!(max_abs_diff(code.clone().narrow(1, 0, off.content_dim), plain.clone()), 0.0);
+    let mean = z.mean_dim(2);
+    let posture = code.clone().narrow(1, off.content_dim, off.latent_dim);
+    assert!(max_abs_diff(posture, mean.clone().repeat_dim(2, 4)) < 1e-6);
+
+    let style = rng.normal_tensor(2, off.style_dim, &dev);
+    let label = || Some(motion_stylizer::model::layers::one_hot(&[0, 3], 4, &dev));
+    let before = old.generator.forward(plain, style.clone(), label());
+    let at_zero = grown.generator.forward(code.clone(), style.clone(), label());
+    assert_eq!(max_abs_diff(at_zero, before.clone()), 0.0, "a zero map adds nothing");
+
+    grown.generator.posture = Some(
+        LinearConfig::new(off.latent_dim, off.latent_dim)
+            .with_bias(false)
+            .with_initializer(Initializer::Constant { value: 0.01 })
+            .init(&dev),
+    );
+    let moved = grown.generator.forward(code, style, label());
+    let [b, d, l] = before.dims();
+    let expected = (mean.sum_dim(1) * 0.01).reshape([b, 1, 1]).repeat_dim(1, d).repeat_dim(2, l);
+    assert!(max_abs_diff(moved - before, expected) < 1e-5);
+}

@@ -68,6 +68,7 @@ fn stylizer_overfits_one_batch() {
             motion2: features(&mut rng, 2, T),
             labels: supervised.then(|| vec![0, 2]),
             content_paired: Vec::new(),
+            style_source: None,
         };
         let first = trainer.step(&batch).unwrap();
         let mut last = first.clone();
@@ -89,14 +90,20 @@ fn training_inputs_are_checked() {
     let mut trainer = StylizerTrainer::new(cfg(true), TrainConfig::default(), ae, &dev, 1);
     let mut rng = NoiseRng::new(1);
     let ok = features(&mut rng, 2, T);
-    let no_labels =
-        StylizerBatch { motion1: ok.clone(), motion2: ok.clone(), labels: None, content_paired: Vec::new() };
+    let no_labels = StylizerBatch {
+        motion1: ok.clone(),
+        motion2: ok.clone(),
+        labels: None,
+        content_paired: Vec::new(),
+        style_source: None,
+    };
     assert!(matches!(trainer.step(&no_labels), Err(ModelError::Label(_))));
     let bad_len = StylizerBatch {
         motion1: features(&mut rng, 2, 20),
         motion2: ok.clone(),
         labels: Some(vec![0, 1]),
         content_paired: Vec::new(),
+        style_source: None,
     };
     assert!(matches!(trainer.step(&bad_len), Err(ModelError::FrameCount { frames: 20, .. })));
     let mut ae_trainer = AeTrainer::new(cfg(true), TrainConfig::default(), &dev, 1);
@@ -205,6 +212,7 @@ fn a_batch_split_into_row_groups_takes_the_whole_batch_step() {
                 labels: supervised.then(|| vec![0, 2, 1, 1, 0, 2, 2, 1]),
                 // Two pairs in the first half, one in the second.
                 content_paired: vec![0, 1, 2, 3, 4, 5],
+                style_source: None,
             };
             (0..3).map(|_| trainer.step(&batch).unwrap()).collect::<Vec<_>>()
         };
@@ -234,4 +242,58 @@ fn a_batch_split_into_row_groups_takes_the_whole_batch_step() {
         // With dropout the groups draw their masks one after the other: still repeatable.
         assert_eq!(format!("{:?}", run(2, 0.2)), format!("{:?}", run(2, 0.2)));
     }
+}
+
+/// Issue 14, cross-content swaps (`StylizerWeights::cross_content`): the partner as explicit style
+/// source is the default step to the bit; style sources of another row change the swaps (and so
+/// the style statistics) and still split into row groups like the whole batch; a source in
+/// another row group is refused, not silently mixed.
+#[test]
+fn cross_content_style_sources_change_the_swaps_and_split_like_the_batch() {
+    let dev = Device::flex();
+    let cfg = cfg(true);
+    let mut rng = NoiseRng::new(9);
+    let base = StylizerBatch {
+        motion1: features(&mut rng, 8, T),
+        motion2: features(&mut rng, 8, T),
+        labels: Some(vec![0, 2, 2, 0, 1, 0, 0, 1]),
+        // Rows 0↔1 and 4↔5: one content in two styles; 2, 3 and 6, 7: their style sources.
+        content_paired: vec![0, 1, 4, 5],
+        style_source: None,
+    };
+    let run = |batch: &StylizerBatch, chunks: usize| {
+        let ae = seeded_xavier(MotionAutoencoder::new(&cfg, &dev), 3);
+        let weights = motion_stylizer::train::StylizerWeights {
+            style_stats: 3.0,
+            cross_content: true,
+            ..motion_stylizer::train::StylizerWeights::paper(true)
+        };
+        let train = TrainConfig { batch_chunks: chunks, stylizer_weights: Some(weights), ..TrainConfig::default() };
+        let mut trainer = StylizerTrainer::new(cfg.clone(), train, ae, &dev, 4);
+        (0..2).map(|_| trainer.step(batch).map_err(|e| e.to_string())).collect::<Result<Vec<_>, _>>()
+    };
+    let partner = StylizerBatch { style_source: Some(vec![1, 0, 3, 2, 5, 4, 7, 6]), ..base.clone() };
+    let default = run(&base, 2).unwrap();
+    assert_eq!(format!("{default:?}"), format!("{:?}", run(&partner, 2).unwrap()), "the partner as source");
+
+    let cross = StylizerBatch { style_source: Some(vec![2, 3, 3, 2, 6, 7, 7, 6]), ..base.clone() };
+    let (whole, split) = (run(&cross, 1).unwrap(), run(&cross, 2).unwrap());
+    assert!(split[0].style_stats > 0.0);
+    assert!(
+        (split[0].style_stats - default[0].style_stats).abs() > 1e-4 * default[0].style_stats,
+        "other style sources, other swaps: {} vs {}",
+        split[0].style_stats,
+        default[0].style_stats
+    );
+    // The reconstructions do not depend on the swaps' sources.
+    assert_eq!(split[0].rec_pose, default[0].rec_pose);
+    for (step, (w, s)) in whole.iter().zip(&split).enumerate() {
+        let d = max_relative_difference(w, s);
+        assert!(d < if step == 0 { 1e-5 } else { 1e-4 }, "step {step}: {w:?}\n  vs {s:?}");
+    }
+
+    let across = StylizerBatch { style_source: Some(vec![5, 3, 3, 2, 6, 7, 7, 6]), ..base };
+    let err = run(&across, 2).unwrap_err();
+    assert!(err.contains("same row group"), "{err}");
+    assert!(run(&across, 1).is_ok(), "one group holds every source");
 }

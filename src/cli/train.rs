@@ -44,6 +44,16 @@ enum StageArgs {
         /// windows of one take; new runs) instead of the paper's (supervised 1, unsupervised 0.1).
         #[arg(long, value_name = "WEIGHT")]
         hsa: Option<f32>,
+        /// Cross-content swaps (not in the paper; new runs, with --style-stats): a content-paired
+        /// row's swap takes its style from a take of its partner's style and another content, and
+        /// is judged by the partner's statistics, so the content's posture must come through.
+        #[arg(long)]
+        cross_content: bool,
+        /// The content's posture past AdaIN (not in the paper; new runs): the generator adds a
+        /// linear map of the content latent's mean over time to its output. From weights without
+        /// it (--from), the map starts at zero.
+        #[arg(long)]
+        content_posture: bool,
     },
     /// The evaluation's style classifier, on the training takes only (`eval` uses it).
     Classifier(TrainOptions),
@@ -136,13 +146,27 @@ pub fn run(args: TrainArgs) -> anyhow::Result<()> {
         StageArgs::Ae(options) => (options, Stage::Ae),
         StageArgs::Classifier(options) => (options, Stage::Classifier),
         StageArgs::ContentClassifier(options) => (options, Stage::ContentClassifier),
-        StageArgs::Stylizer { options, ae, unsupervised, style_stats, content_shape, hsa } => {
+        StageArgs::Stylizer {
+            options,
+            ae,
+            unsupervised,
+            style_stats,
+            content_shape,
+            hsa,
+            cross_content,
+            content_posture,
+        } => {
             for (flag, w) in
                 [("--style-stats", style_stats), ("--content-shape", content_shape), ("--hsa", hsa.unwrap_or(0.0))]
             {
                 anyhow::ensure!(w.is_finite() && w >= 0.0, "{flag} {w}: the weight must be 0 or more");
             }
-            let extra = train::losses::ExtraLosses { style_stats, content_shape, hsa };
+            anyhow::ensure!(
+                !cross_content || style_stats > 0.0,
+                "--cross-content needs --style-stats above 0 (its swaps are judged by the style statistics)"
+            );
+            let extra =
+                train::losses::StylizerExtras { style_stats, content_shape, hsa, cross_content, content_posture };
             (options, Stage::Stylizer { ae, supervised: !unsupervised, extra })
         }
     };

@@ -48,6 +48,14 @@ pub struct ModelConfig {
     pub vae: bool,
     /// Dropout probability in the motion encoder (paper 0.2).
     pub dropout: f64,
+    /// The content's posture past AdaIN (not in the paper; issue 14): the content code carries the
+    /// content latent's mean over time as `latent_dim` more channels (constant along time), and
+    /// the generator adds a linear map of it to its output latent. Every instance norm and AdaIN
+    /// removes per-channel means over time, so without it a content's held posture (a raised
+    /// arm, a crouch) reaches the output only through the style code. Default: off (the paper;
+    /// not written when off, so configs without it keep their bytes).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub content_posture: bool,
 }
 
 impl Default for ModelConfig {
@@ -67,6 +75,7 @@ impl Default for ModelConfig {
             supervised: true,
             vae: false,
             dropout: 0.2,
+            content_posture: false,
         }
     }
 }
@@ -114,6 +123,18 @@ impl ModelConfig {
     pub fn with_vae(mut self, vae: bool) -> Self {
         self.vae = vae;
         self
+    }
+
+    /// [`ModelConfig::content_posture`].
+    pub fn with_content_posture(mut self, on: bool) -> Self {
+        self.content_posture = on;
+        self
+    }
+
+    /// Channels of the content code: `content_dim`, plus `latent_dim` posture channels with
+    /// [`ModelConfig::content_posture`].
+    pub fn content_code_dim(&self) -> usize {
+        self.content_dim + if self.content_posture { self.latent_dim } else { 0 }
     }
 
     /// Width of the one-hot label the stylizer networks take: `num_styles` when supervised,

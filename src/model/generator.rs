@@ -3,12 +3,15 @@
 //!
 //! Three style blocks, each conv k3 (zero pad) → LeakyReLU 0.2 → AdaIN:
 //! 512→768, 768→1024, then nearest ×2 and 1024→768; then 768→512 (k1, linear).
-//! Every AdaIN has its own linear layer on `[style code ; one-hot label]`.
+//! Every AdaIN has its own linear layer on `[style code ; one-hot label]`. With
+//! [`ModelConfig::content_posture`], a linear map (no bias) of the content code's posture channels
+//! is added to the output latent at every step: the content's posture past every AdaIN.
 
 use burn::prelude::*;
 
 use super::config::ModelConfig;
 use super::layers::{AdaIn, ConvLayer, ConvLayerConfig, from_cbt, to_cbt};
+use burn::nn::{Linear, LinearConfig};
 
 /// conv k3 → LeakyReLU → AdaIN (the reference's `StyleConv1dLayer`).
 #[derive(Module, Debug)]
@@ -40,6 +43,9 @@ pub struct Generator {
     pub block2: StyleBlock,
     pub block3: StyleBlock,
     pub out: ConvLayer,
+    /// `[D_z, D_z]` on the content's posture (see the module docs); `None` without it.
+    pub posture: Option<Linear>,
+    pub content_dim: usize,
     pub label_dim: usize,
 }
 
@@ -52,6 +58,10 @@ impl Generator {
             block2: StyleBlock::new(g0, g1, cond, false, device),
             block3: StyleBlock::new(g1, g2, cond, true, device),
             out: ConvLayerConfig::new(g2, cfg.latent_dim, 1).linear_out().init(device),
+            posture: cfg
+                .content_posture
+                .then(|| LinearConfig::new(cfg.latent_dim, cfg.latent_dim).with_bias(false).init(device)),
+            content_dim: cfg.content_dim,
             label_dim: cfg.label_dim(),
         }
     }
@@ -64,9 +74,22 @@ impl Generator {
             None if self.label_dim > 0 => panic!("the supervised generator needs a style label"),
             _ => style,
         };
+        let (content, posture) = match &self.posture {
+            Some(linear) => {
+                let [b, c, _] = content.dims();
+                let posture = content.clone().narrow(1, self.content_dim, c - self.content_dim).narrow(2, 0, 1);
+                let posture = linear.forward(posture.reshape([b, c - self.content_dim]));
+                (content.narrow(1, 0, self.content_dim), Some(posture.unsqueeze_dim::<3>(2)))
+            }
+            None => (content, None),
+        };
         let x = self.block1.forward_cbt(to_cbt(content), cond.clone());
         let x = self.block2.forward_cbt(x, cond.clone());
         let x = self.block3.forward_cbt(x, cond);
-        from_cbt(self.out.forward_cbt(x))
+        let out = from_cbt(self.out.forward_cbt(x));
+        match posture {
+            Some(p) => out + p,
+            None => out,
+        }
     }
 }

@@ -290,7 +290,7 @@ impl Model {
         label: Option<Tensor<2>>,
     ) -> Result<Tensor<3>, ModelError> {
         let [b, c, l] = content.dims();
-        channels("content code", c, self.config.content_dim)?;
+        channels("content code", c, self.config.content_code_dim())?;
         if l == 0 {
             return Err(ModelError::LatentLength { len: 0 });
         }

@@ -26,6 +26,10 @@ pub struct TrainData {
     /// whose takes in other styles the stylizer's content-paired rows draw from
     /// ([`WindowSampler::content_partner`]); `None` for a clip without a content.
     pub groups: Vec<Option<u32>>,
+    /// Each clip's content alone (the same number for a content in either data set, mirrored or
+    /// not): the style sources of the cross-content swaps come from another content
+    /// ([`WindowSampler::style_clip_elsewhere`]); `None` for a clip without a content.
+    pub contents: Vec<Option<u32>>,
     pub sampler: WindowSampler,
     /// The fixed held-out windows and pairs.
     pub heldout: HeldoutSet,
@@ -61,6 +65,18 @@ fn content_groups(clips: &[Clip]) -> Vec<Option<u32>> {
             let content = c.content.as_deref()?;
             let next = ids.len() as u32;
             Some(*ids.entry((set, content, c.mirrored)).or_insert(next))
+        })
+        .collect()
+}
+
+/// Numbers the clips' contents (by name alone); `None` without a content.
+fn content_ids(clips: &[Clip]) -> Vec<Option<u32>> {
+    let mut ids: std::collections::HashMap<&str, u32> = Default::default();
+    clips
+        .iter()
+        .map(|c| {
+            let next = ids.len() as u32;
+            Some(*ids.entry(c.content.as_deref()?).or_insert(next))
         })
         .collect()
 }
@@ -149,6 +165,7 @@ impl TrainData {
         let clips = normalized(&train, &norm);
         let labels: Vec<usize> = train.iter().filter_map(class).collect();
         let groups = content_groups(&train);
+        let content_of = content_ids(&train);
         let frames: Vec<usize> = clips.iter().map(Features::frames).collect();
         let sampler = WindowSampler::new(&frames, &labels, window);
         ensure!(sampler.eligible() > 0, "no training take has {window} frames or more (--window {window})");
@@ -193,6 +210,7 @@ impl TrainData {
             clips,
             labels,
             groups,
+            contents: content_of,
             sampler,
             heldout,
             heldout_takes,

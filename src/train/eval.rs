@@ -261,6 +261,7 @@ pub fn evaluate_stylizer(
             motion2,
             labels: num_styles.map(|n| one_hot(&labels, n, device)),
             content_paired: Vec::new(),
+            style_source: None,
         };
         let l = stylizer_loss(net, &autoencoder.decoder, &inputs, weights, &mut noise);
         let terms = vec![l.total, l.rec_latent, l.rec_pose, l.cyc_latent, l.cyc_pose, l.kl, l.hsa];

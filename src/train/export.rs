@@ -350,7 +350,9 @@ pub fn replace_stylizers(
         entry.stages.push(stage_record(dir, &config, ckpt.meta.step)?);
         entry.label_codes = None;
         let new = MotionModel { stylizer, ..old.clone() };
-        nets[i] = (setting, model_config.clone(), new);
+        // The run's architecture options (the posture path) go with its networks.
+        let model_config = model_config.clone().with_content_posture(config.model.content_posture);
+        nets[i] = (setting, model_config, new);
     }
     let norm = std::fs::read(from.join(&manifest.norm)).with_context(|| format!("cannot read {}", manifest.norm))?;
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;

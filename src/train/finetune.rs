@@ -97,6 +97,10 @@ fn params<M: Module>(module: &M) -> anyhow::Result<HashMap<String, (Vec<usize>, 
     Ok(list.into_iter().map(|(path, shape, values)| (path, (shape, values))).collect())
 }
 
+/// Layers newer than some weights, which a network grown from those starts at zero: the posture
+/// map ([`crate::model::ModelConfig::content_posture`]), zero adds nothing.
+const ADDED_AT_ZERO: &[&str] = &["generator.posture"];
+
 /// The new network's parameters replaced by the old one's (grown where needed).
 struct Grow {
     path: Vec<String>,
@@ -136,6 +140,14 @@ impl ModuleMapper for Grow {
         }
         let path = self.path.join(".");
         let Some((from, old)) = self.old.remove(&path) else {
+            // A layer the weights predate that starts at zero (the network's outputs unchanged).
+            if ADDED_AT_ZERO.iter().any(|p| path.starts_with(p)) {
+                let device = param.lazy_device();
+                let shape = param.lazy_shape();
+                self.grown.push(format!("{path} (new, zero)"));
+                let id = param.id;
+                return param.transform_for_load(Tensor::<D>::zeros(shape, &device), id);
+            }
             self.error = Some(format!("{path}: not in the weights to start from"));
             return param;
         };

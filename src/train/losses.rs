@@ -164,32 +164,52 @@ pub struct StylizerWeights {
     /// 0 there).
     #[serde(default)]
     pub content_shape: f32,
+    /// Cross-content swaps (not in the paper; needs `style_stats` above 0): a content-paired row's
+    /// swap takes its style from a take of its partner's style and *another* content, and is
+    /// still judged by the partner's statistics, so the content's own posture and curves must
+    /// come through the content code (rows 4k, 4k+1: the pair; 4k+2, 4k+3: the style sources;
+    /// [`StylizerInputs::style_source`]). `false`: the partner is the style source.
+    #[serde(default)]
+    pub cross_content: bool,
 }
 
-/// The stylizer losses a run adds to the paper's (their weights; 0: not used).
+/// What a stylizer run adds to the paper's recipe: losses (their weights; 0: not used), the
+/// cross-content swaps, and the posture path of the networks ([`ModelConfig::content_posture`]).
+///
+/// [`ModelConfig::content_posture`]: crate::model::ModelConfig::content_posture
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ExtraLosses {
+pub struct StylizerExtras {
     /// [`StylizerWeights::style_stats`].
     pub style_stats: f32,
     /// [`StylizerWeights::content_shape`].
     pub content_shape: f32,
     /// [`StylizerWeights::hsa`] instead of the paper's (`None`: the paper's).
     pub hsa: Option<f32>,
+    /// [`StylizerWeights::cross_content`].
+    pub cross_content: bool,
+    /// [`crate::model::ModelConfig::content_posture`] (new runs; a fine-tune from weights without
+    /// it starts with the posture map at zero, i.e. from those weights' outputs).
+    pub content_posture: bool,
 }
 
-impl ExtraLosses {
+impl StylizerExtras {
     /// Whether a run departs from the paper's loss weights.
     pub fn any(&self) -> bool {
-        self.style_stats > 0.0 || self.content_shape > 0.0 || self.hsa.is_some()
+        self.style_stats > 0.0
+            || self.content_shape > 0.0
+            || self.hsa.is_some()
+            || self.cross_content
+            || self.content_posture
     }
 }
 
 impl StylizerWeights {
     /// Paper, supervised: (hsa, cyc, kl) = (1, 0.1, 0.1).
-    pub const SUPERVISED: Self = Self { rec: 1.0, hsa: 1.0, cyc: 0.1, kl: 0.1, style_stats: 0.0, content_shape: 0.0 };
+    pub const SUPERVISED: Self =
+        Self { rec: 1.0, hsa: 1.0, cyc: 0.1, kl: 0.1, style_stats: 0.0, content_shape: 0.0, cross_content: false };
     /// Paper, unsupervised: (hsa, cyc, kl) = (0.1, 1, 0.01).
     pub const UNSUPERVISED: Self =
-        Self { rec: 1.0, hsa: 0.1, cyc: 1.0, kl: 0.01, style_stats: 0.0, content_shape: 0.0 };
+        Self { rec: 1.0, hsa: 0.1, cyc: 1.0, kl: 0.01, style_stats: 0.0, content_shape: 0.0, cross_content: false };
 
     /// The paper's weights for the given mode.
     pub fn paper(supervised: bool) -> Self {
@@ -213,6 +233,10 @@ pub struct StylizerInputs {
     /// The rows whose partner row ([`partner_permutation`]) is a take of the same content in
     /// another style: their swaps are judged by the style-statistics loss. Empty: no such loss.
     pub content_paired: Vec<usize>,
+    /// The row whose style each row's swap takes (and whose clip 2 its cycle rebuilds), within
+    /// the batch; `None`: the partner row ([`partner_permutation`]). See
+    /// [`StylizerWeights::cross_content`].
+    pub style_source: Option<Vec<usize>>,
 }
 
 /// Per-channel mean and standard deviation over time of `[B, C, T]` features: `([B, C], [B, C])`.
@@ -290,6 +314,8 @@ impl StylizerInputs {
             latent2: pick3(&self.latent2),
             labels: self.labels.as_ref().map(|l| l.clone().narrow(0, rows.start, rows.len())),
             content_paired: self.content_paired.iter().filter(|r| rows.contains(r)).map(|r| r - rows.start).collect(),
+            // The caller keeps every source within its row group (`StylizerTrainer::step`).
+            style_source: self.style_source.as_ref().map(|s| s[rows.clone()].iter().map(|r| r - rows.start).collect()),
         }
     }
 }
@@ -378,8 +404,14 @@ pub fn stylizer_loss_drawn(
 ) -> StylizerLosses {
     let device = inputs.latent1.device();
     let batch = inputs.latent1.dims()[0];
-    let perm: Vec<i64> = partner_permutation(batch).into_iter().map(|i| i as i64).collect();
-    let perm = Tensor::<1, Int>::from_data(TensorData::new(perm, [batch]), &device);
+    let partner = partner_permutation(batch);
+    let source = inputs.style_source.clone().unwrap_or_else(|| partner.clone());
+    assert_eq!(source.len(), batch, "one style source a row");
+    let index = |rows: Vec<usize>| {
+        let n = rows.len();
+        Tensor::<1, Int>::from_data(TensorData::new(rows.into_iter().map(|i| i as i64).collect(), [n]), &device)
+    };
+    let perm = index(source);
     let StyleNoise([eps1, eps2, eps3, eps2b, eps_t]) = eps;
 
     let z1 = inputs.latent1.clone();
@@ -432,10 +464,8 @@ pub fn stylizer_loss_drawn(
 
     // Pose space: one pass of the frozen decoder over [ẑ¹; ẑ²; z̃²; z̃³] and the swaps zᵗ the
     // extra losses judge: every row for the content-shape loss, else the content-paired rows.
-    let paired = (weights.style_stats > 0.0 && !inputs.content_paired.is_empty()).then(|| {
-        let rows: Vec<i64> = inputs.content_paired.iter().map(|&i| i as i64).collect();
-        Tensor::<1, Int>::from_data(TensorData::new(rows, [inputs.content_paired.len()]), &device)
-    });
+    let paired =
+        (weights.style_stats > 0.0 && !inputs.content_paired.is_empty()).then(|| index(inputs.content_paired.clone()));
     let shape = weights.content_shape > 0.0;
     let mut decoded = vec![r1.clone(), r2.clone(), rr2.clone(), rr3.clone()];
     let swaps = match (&paired, shape) {
@@ -453,7 +483,9 @@ pub fn stylizer_loss_drawn(
     let style_stats = match (&paired, &swap_poses) {
         (Some(rows), Some(p)) => {
             let judged = if shape { p.clone().select(0, rows.clone()) } else { p.clone() };
-            style_statistics(judged, m3.clone().select(0, rows.clone()))
+            // The content partner's statistics (the style source's too, unless cross-content).
+            let partners = index(inputs.content_paired.iter().map(|&r| partner[r]).collect());
+            style_statistics(judged, inputs.motion2.clone().select(0, partners))
         }
         _ => Tensor::zeros([1], &device),
     };

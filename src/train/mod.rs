@@ -99,7 +99,7 @@ pub enum Stage {
     /// `extra`: the weights of the losses added to the paper's (the style-statistics loss on
     /// content-paired swaps, the content-shape loss on every swap; 0: the paper's losses only;
     /// see [`losses::style_statistics`], [`losses::content_shape`]).
-    Stylizer { ae: Option<PathBuf>, supervised: bool, extra: losses::ExtraLosses },
+    Stylizer { ae: Option<PathBuf>, supervised: bool, extra: losses::StylizerExtras },
     /// The evaluation's style classifier (training takes only; see [`classifier`]).
     Classifier,
     /// The evaluation's content classifier: the same network and training on the content classes
@@ -178,7 +178,7 @@ pub fn train(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<TrainSummary>
     let from = config.from.as_deref().filter(|_| start_step == 0).map(std::path::Path::new);
     let report_grown = |grown: Vec<String>| {
         if !grown.is_empty() {
-            say(format!("grown for the new labels: {}", grown.join(", ")));
+            say(format!("grown for the new labels or added: {}", grown.join(", ")));
         }
     };
     match stage {

@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
 use super::Stage;
 use super::finetune;
 pub use super::logs::{CsvLog, CsvTable, RunLog, Segment, machine_description, unix_now};
-use super::losses::ExtraLosses;
+use super::losses::StylizerExtras;
 use super::sampler::RngState;
 use super::settings::{Settings, TrainConfig, TrainOptions};
 use crate::dataset::folder::{self, FolderListing};
@@ -215,7 +215,7 @@ fn ae_source(path: &Path) -> anyhow::Result<(RunConfig, Checkpoint, NormStats)> 
 }
 
 /// How a stylizer run draws its batches (recorded in `config.json`).
-fn stylizer_sampler(extra: ExtraLosses) -> String {
+fn stylizer_sampler(extra: StylizerExtras) -> String {
     let mut s = "style-balanced: a style uniformly, a clip of it uniformly, two windows of that clip at independent \
                  uniform offsets"
         .to_string();
@@ -225,16 +225,23 @@ fn stylizer_sampler(extra: ExtraLosses) -> String {
              uniformly among the group's others, a clip of it uniformly)",
         );
     }
+    if extra.style_stats > 0.0 && extra.cross_content {
+        s.push_str(
+            "; cross-content: rows 4k+2 and 4k+3 (when the data has them): a clip of row 4k+1's style and one of row \
+             4k's, each uniformly among the style's clips of another content, the style sources of rows 4k and 4k+1",
+        );
+    }
     s
 }
 
 /// A stylizer run's optimisation settings: the defaults, with the paper's loss weights and the
 /// extra losses' weights when they are used.
-fn stylizer_train(supervised: bool, extra: ExtraLosses) -> TrainConfig {
+fn stylizer_train(supervised: bool, extra: StylizerExtras) -> TrainConfig {
     let paper = super::losses::StylizerWeights::paper(supervised);
     let weights = extra.any().then_some(super::losses::StylizerWeights {
         style_stats: extra.style_stats,
         content_shape: extra.content_shape,
+        cross_content: extra.cross_content,
         hsa: extra.hsa.unwrap_or(paper.hsa),
         ..paper
     });
@@ -402,7 +409,7 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
             let norm = start_norm.context("--from: the weights' normalisation statistics")?;
             let config = RunConfig {
                 supervised: Some(*supervised),
-                model: base.model.clone().with_supervised(*supervised),
+                model: base.model.clone().with_supervised(*supervised).with_content_posture(extra.content_posture),
                 ae_run: Some(format!("{} (its autoencoder and regressor)", dir.display())),
                 sampler: stylizer_sampler(*extra),
                 train: stylizer_train(*supervised, *extra),
@@ -433,7 +440,12 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
             let config = RunConfig {
                 supervised: Some(*supervised),
                 settings: Settings { width: ae_config.settings.width, ..base.settings.clone() },
-                model: ae_config.model.clone().with_supervised(*supervised).with_num_styles(classes),
+                model: ae_config
+                    .model
+                    .clone()
+                    .with_supervised(*supervised)
+                    .with_num_styles(classes)
+                    .with_content_posture(extra.content_posture),
                 ae_run: Some(ae.display().to_string()),
                 ae_step: Some(ae_ckpt.meta.step),
                 sampler: stylizer_sampler(*extra),

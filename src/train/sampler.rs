@@ -196,6 +196,26 @@ impl WindowSampler {
         let partner = clips[rng.below(clips.len() as u64) as usize];
         Some(self.pair_of(partner, *style, rng))
     }
+
+    /// A clip of `style` whose content (`contents[i]`) is not `content` — a clip uniformly among
+    /// them — as a pair of windows like [`pair`](Self::pair). `None` when the style has no clip
+    /// of another content.
+    pub fn style_clip_elsewhere(
+        &self,
+        style: usize,
+        content: Option<u32>,
+        contents: &[Option<u32>],
+        rng: &mut SamplerRng,
+    ) -> Option<(Window, Window, usize)> {
+        let (_, clips) = self.by_style.iter().find(|(s, _)| *s == style)?;
+        let elsewhere = |i: usize| content.is_none() || contents.get(i).copied().flatten() != content;
+        let others: Vec<usize> = clips.iter().copied().filter(|&i| elsewhere(i)).collect();
+        if others.is_empty() {
+            return None;
+        }
+        let clip = others[rng.below(others.len() as u64) as usize];
+        Some(self.pair_of(clip, style, rng))
+    }
 }
 
 /// `[B, 260, T]` tensor of the windows (each clip's features already normalised), channels first.
@@ -268,5 +288,26 @@ mod tests {
         }
         assert!(s.content_partner(4, &groups, &mut rng).is_none(), "group 1 has one style");
         assert!(s.content_partner(5, &groups, &mut rng).is_none(), "no group");
+    }
+
+    #[test]
+    fn a_style_clip_elsewhere_has_the_style_and_another_content() {
+        // Style 1: clips 2 (content 0), 4 (content 1), 5 (no content), 6 (content 1, too short).
+        let frames = [80, 80, 80, 10, 80, 80, 10];
+        let styles = [0, 0, 1, 2, 1, 1, 1];
+        let contents = [Some(0), Some(0), Some(0), Some(0), Some(1), None, Some(1)];
+        let s = WindowSampler::new(&frames, &styles, 64);
+        let mut rng = SamplerRng::new(5);
+        let mut seen = std::collections::BTreeSet::new();
+        for _ in 0..200 {
+            let (a, b, style) = s.style_clip_elsewhere(1, Some(0), &contents, &mut rng).expect("clips 4 and 5");
+            assert_eq!((a.clip, style), (b.clip, 1));
+            seen.insert(a.clip);
+            let (a, _, _) = s.style_clip_elsewhere(1, Some(1), &contents, &mut rng).unwrap();
+            assert!(a.clip == 2 || a.clip == 5, "not content 1: {}", a.clip);
+        }
+        assert_eq!(seen, [4, 5].into(), "both clips of another content, never content 0's");
+        assert!(s.style_clip_elsewhere(0, Some(0), &contents, &mut rng).is_none(), "style 0 has only content 0");
+        assert!(s.style_clip_elsewhere(2, None, &contents, &mut rng).is_none(), "style 2 has no eligible clip");
     }
 }

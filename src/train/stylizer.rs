@@ -36,6 +36,9 @@ pub struct StylizerBatch {
     /// Rows whose partner row (`partner_permutation`: 0↔1, 2↔3, …) holds a take of the same
     /// content in another style (the style-statistics loss judges their swaps).
     pub content_paired: Vec<usize>,
+    /// The row whose style each row's swap takes (`None`: the partner row; see
+    /// [`StylizerWeights::cross_content`](super::losses::StylizerWeights::cross_content)).
+    pub style_source: Option<Vec<usize>>,
 }
 
 step_report! {
@@ -141,6 +144,26 @@ impl StylizerTrainer {
                 got: bad,
             });
         }
+        let groups = row_groups(&self.device, b, self.train.batch_chunks);
+        if let Some(source) = &batch.style_source {
+            if source.len() != b {
+                return Err(ModelError::BatchSize {
+                    what: "style sources (one a row)",
+                    expected: b,
+                    got: source.len(),
+                });
+            }
+            // Row groups run apart: a swap's style source must be in its own group.
+            if let Some((row, &bad)) =
+                source.iter().enumerate().find(|&(r, s)| !groups.iter().any(|g| g.contains(&r) && g.contains(s)))
+            {
+                return Err(ModelError::BatchSize {
+                    what: "style source of a row (a row of the same row group)",
+                    expected: row,
+                    got: bad,
+                });
+            }
+        }
         if batch.motion2.dims() != [b, DIM, t] {
             let got = batch.motion2.dims()[0];
             return Err(ModelError::BatchSize { what: "clip 2 (same shape as clip 1)", expected: b, got });
@@ -168,11 +191,11 @@ impl StylizerTrainer {
             motion2,
             labels,
             content_paired: batch.content_paired.clone(),
+            style_source: batch.style_source.clone(),
         };
         let eps = StyleNoise::draw(&mut self.noise, b, self.net.style_encoder.style_dim, &self.device);
         // The batch's row groups side by side on the CPU's threads (`super::parallel`), each its
         // share of the whole batch's loss; one group on a GPU or with `batch_chunks` 1.
-        let groups = row_groups(&self.device, b, self.train.batch_chunks);
         let paired_total = batch.content_paired.len().max(1) as f32;
         let shares: Vec<LossShares> = groups
             .iter()
@@ -249,20 +272,37 @@ impl Trainer for StylizerTrainer {
     fn train_step(&mut self, data: &TrainData, rng: &mut SamplerRng) -> anyhow::Result<StylizerStepReport> {
         // With the style-statistics loss, every other pair of rows (0↔1, 4↔5, …) is a take and a
         // take of the same content in another style, when the data has one; the other rows are
-        // drawn as always, so the swaps still cross contents half of the time.
+        // drawn as always, so the swaps still cross contents half of the time. Cross-content:
+        // rows 4k+2 and 4k+3 are then a take of row 4k+1's style and one of row 4k's, both of
+        // another content, and the pair's swaps take their styles from them.
         let paired_rows = self.weights.style_stats > 0.0;
+        let cross = paired_rows && self.weights.cross_content;
         let mut pairs = Vec::with_capacity(data.batch);
         let mut content_paired = Vec::new();
+        let mut source: Vec<usize> = super::losses::partner_permutation(data.batch);
         while pairs.len() < data.batch {
             let row = pairs.len();
             let first = data.sampler.pair(rng);
+            let quad = cross && row % 4 == 0 && row + 3 < data.batch;
             let partner = (paired_rows && row % 4 == 0 && row + 1 < data.batch)
                 .then(|| data.sampler.content_partner(first.0.clip, &data.groups, rng))
                 .flatten();
+            let sources = match (&partner, quad) {
+                (Some(p), true) => {
+                    let content = data.contents[first.0.clip];
+                    let mut elsewhere = |style| data.sampler.style_clip_elsewhere(style, content, &data.contents, rng);
+                    elsewhere(p.2).zip(elsewhere(first.2))
+                }
+                _ => None,
+            };
             pairs.push(first);
             if let Some(p) = partner {
                 content_paired.extend([row, row + 1]);
                 pairs.push(p);
+            }
+            if let Some((for_first, for_partner)) = sources {
+                pairs.extend([for_first, for_partner]);
+                source[row..row + 4].copy_from_slice(&[row + 2, row + 3, row + 3, row + 2]);
             }
         }
         let first: Vec<_> = pairs.iter().map(|p| p.0).collect();
@@ -273,6 +313,7 @@ impl Trainer for StylizerTrainer {
             motion2: batch_tensor(&data.clips, &second, data.window, &data.device),
             labels: self.config.supervised.then(|| pairs.iter().map(|p| p.2).collect()),
             content_paired,
+            style_source: cross.then_some(source),
         };
         Ok(self.step(&batch)?)
     }
