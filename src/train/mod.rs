@@ -96,9 +96,9 @@ pub enum Stage {
     Ae,
     /// Stylizer on the frozen autoencoder of an `ae` run (`ae`: its folder or a checkpoint file;
     /// needed for a new run, ignored on resume: the run keeps its own copy).
-    /// `extra`: the weights of the losses added to the paper's (the style-statistics loss on
-    /// content-paired swaps, the content-shape loss on every swap; 0: the paper's losses only;
-    /// see [`losses::style_statistics`], [`losses::content_shape`]).
+    /// `extra`: what the run adds to the paper's recipe ([`losses::StylizerExtras`]: the weights of
+    /// the style-statistics loss on content-paired swaps and the content-shape loss on every swap,
+    /// 0: the paper's losses only; the cross-content swaps; the posture path).
     Stylizer { ae: Option<PathBuf>, supervised: bool, extra: losses::StylizerExtras },
     /// The evaluation's style classifier (training takes only; see [`classifier`]).
     Classifier,
