@@ -10,6 +10,15 @@ use motion_stylizer::train::{AeTrainer, StylizerBatch, StylizerTrainer, TrainCon
 
 const T: usize = 32;
 
+/// The tests of this file one at a time: the trainers seed Burn's shared generator
+/// (`Device::seed`), which the autoencoder's dropout masks draw from, so a trainer made by one
+/// test while another draws masks would change the other's masks (the row-group test's
+/// repeatability check with dropout failed so, 1 run in several).
+fn serial() -> std::sync::MutexGuard<'static, ()> {
+    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    LOCK.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 fn features(rng: &mut NoiseRng, b: usize, t: usize) -> Tensor<3> {
     // Smooth-ish motion-like signals: a random walk over time per channel, scaled to unit size.
     let raw = rng.normals(b * 260 * t);
@@ -35,6 +44,7 @@ fn fast_train() -> TrainConfig {
 
 #[test]
 fn autoencoder_and_regressor_overfit_one_batch() {
+    let _serial = serial();
     for vae in [false, true] {
         let dev = Device::flex();
         let mut trainer = AeTrainer::new(cfg(true).with_vae(vae), fast_train(), &dev, 1);
@@ -58,6 +68,7 @@ fn autoencoder_and_regressor_overfit_one_batch() {
 
 #[test]
 fn stylizer_overfits_one_batch() {
+    let _serial = serial();
     for supervised in [true, false] {
         let dev = Device::flex();
         let ae = seeded_xavier(MotionAutoencoder::new(&cfg(supervised), &dev), 3);
@@ -85,6 +96,7 @@ fn stylizer_overfits_one_batch() {
 
 #[test]
 fn training_inputs_are_checked() {
+    let _serial = serial();
     let dev = Device::flex();
     let ae = MotionAutoencoder::new(&cfg(true), &dev);
     let mut trainer = StylizerTrainer::new(cfg(true), TrainConfig::default(), ae, &dev, 1);
@@ -112,6 +124,7 @@ fn training_inputs_are_checked() {
 
 #[test]
 fn partner_permutation_pairs_rows() {
+    let _serial = serial();
     assert_eq!(partner_permutation(4), vec![1, 0, 3, 2]);
     assert_eq!(partner_permutation(3), vec![1, 2, 0]);
     assert_eq!(partner_permutation(1), vec![0]);
@@ -119,6 +132,7 @@ fn partner_permutation_pairs_rows() {
 
 #[test]
 fn style_classifier_learns_one_batch_and_checks_its_labels() {
+    let _serial = serial();
     use motion_stylizer::train::ClassifierTrainer;
     let dev = Device::flex();
     let mut trainer = ClassifierTrainer::new(cfg(true), fast_train(), &dev, 1);
@@ -138,6 +152,7 @@ fn style_classifier_learns_one_batch_and_checks_its_labels() {
 /// A trainer rebuilt from saved weights and Adam state takes exactly the step the original takes.
 #[test]
 fn resumed_adam_state_gives_the_same_next_step() {
+    let _serial = serial();
     use motion_stylizer::model::StyleClassifier;
     use motion_stylizer::train::ClassifierTrainer;
     let dev = Device::flex();
@@ -186,6 +201,7 @@ fn max_relative_difference(a: &impl std::fmt::Debug, b: &impl std::fmt::Debug) -
 /// bit for bit.
 #[test]
 fn a_batch_split_into_row_groups_takes_the_whole_batch_step() {
+    let _serial = serial();
     let weights = |supervised: bool| motion_stylizer::train::StylizerWeights {
         style_stats: 3.0,
         content_shape: 1.0,
@@ -250,6 +266,7 @@ fn a_batch_split_into_row_groups_takes_the_whole_batch_step() {
 /// another row group is refused, not silently mixed.
 #[test]
 fn cross_content_style_sources_change_the_swaps_and_split_like_the_batch() {
+    let _serial = serial();
     let dev = Device::flex();
     let cfg = cfg(true);
     let mut rng = NoiseRng::new(9);
