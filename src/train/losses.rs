@@ -193,7 +193,9 @@ pub struct StylizerExtras {
 }
 
 impl StylizerExtras {
-    /// Whether a run departs from the paper's loss weights.
+    /// Whether a run departs from the paper's recipe (its [`StylizerWeights`] are then written
+    /// into the run's settings; the posture path is the model config's, and counts here only so
+    /// that such a run says it departs).
     pub fn any(&self) -> bool {
         self.style_stats > 0.0
             || self.content_shape > 0.0
