@@ -4,10 +4,11 @@
 //!
 //! ```text
 //! cargo run --release --example filmstrip -- --data data --out assets/eval/filmstrips/walk.svg \
-//!     [--content tests/fixtures/bandai/dataset-2_walk_normal_001_f120.bvh] [--strength 1] [--seed 0]
+//!     [--content tests/fixtures/bandai/dataset-2_walk_normal_001_f120.bvh] [--strength 1] [--seed 0] \
+//!     [--weights assets/weights]
 //! ```
 //!
-//! Stylized: label-based with the shipped weights (assets/weights), the default temperature, one
+//! Stylized: label-based with the shipped weights (assets/weights, or a candidate's folder), the default temperature, one
 //! sample. Real: the first `walk` take of the label in the Bandai-Namco data (set 2 where it has
 //! the label, else set 1), cut to the content's length. Poses every `EVERY` frames, each at its
 //! own slot, root-relative in the walking direction so that walks and in-place motions read alike.
@@ -50,6 +51,7 @@ mod strip {
         data: PathBuf,
         content: PathBuf,
         out: PathBuf,
+        weights: PathBuf,
         strength: f32,
         seed: u64,
     }
@@ -60,6 +62,7 @@ mod strip {
             data: root.join("data"),
             content: root.join("tests/fixtures/bandai/dataset-2_walk_normal_001_f120.bvh"),
             out: root.join("assets/eval/filmstrips/walk.svg"),
+            weights: root.join("assets/weights"),
             strength: 1.0,
             seed: 0,
         };
@@ -70,6 +73,7 @@ mod strip {
                 "--data" => a.data = value()?.into(),
                 "--content" => a.content = value()?.into(),
                 "--out" => a.out = value()?.into(),
+                "--weights" => a.weights = value()?.into(),
                 "--strength" => a.strength = value()?.parse()?,
                 "--seed" => a.seed = value()?.parse()?,
                 other => bail!("unknown argument {other}"),
@@ -103,7 +107,8 @@ mod strip {
 
     pub fn main() -> anyhow::Result<()> {
         let a = args()?;
-        let weights = Weights::load_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/weights"))?;
+        let weights =
+            Weights::load_dir(&a.weights).with_context(|| format!("cannot load the weights in {}", a.weights.display()))?;
         let content = import(&a.content)?;
         let takes = list_takes(&a.data).with_context(|| format!("cannot list the takes in {}", a.data.display()))?;
         let real_take = |label: usize| -> Option<&(TakeId, PathBuf)> {

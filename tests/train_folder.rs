@@ -269,11 +269,12 @@ fn a_malformed_labels_csv_is_refused_with_its_line() {
     let _ = std::fs::remove_dir_all(&root);
 }
 
-/// `train stylizer --from WEIGHTS --style-stats W --content-shape W` without an `ae` run (the
-/// weights' autoencoder),
+/// `train stylizer --from WEIGHTS --style-stats W --content-shape W --content-posture` without an
+/// `ae` run (the weights' autoencoder),
 /// then `export --from WEIGHTS --sup RUN`: the fine-tuned stylizer replaces the folder's, the
 /// shared networks and the other model are written again unchanged (byte for byte: the folder's
-/// encodings are kept, and re-encoding dequantised weights in their own encoding is exact).
+/// encodings are kept, re-encoding dequantised weights in their own encoding is exact, and the
+/// posture path, a stylizer's option, stays out of the shared part's header).
 #[test]
 fn a_stylizer_fine_tuned_with_the_style_statistics_loss_replaces_the_weights_stylizer() {
     let root = fresh("style-stats");
@@ -295,7 +296,7 @@ fn a_stylizer_fine_tuned_with_the_style_statistics_loss_replaces_the_weights_sty
     let common = ["--steps", "2", "--window", "32", "--batch", "4", "--threads", "1", "--eval-every", "0"];
     let mut args = vec!["train", "stylizer", "--data", p(&data), "--out", p(&run), "--from", p(&weights)];
     args.extend_from_slice(&common);
-    args.extend_from_slice(&["--style-stats", "1", "--content-shape", "1"]);
+    args.extend_from_slice(&["--style-stats", "1", "--content-shape", "1", "--content-posture"]);
     ok(cli(&args));
     let losses = rundir::CsvTable::read(&run.join(rundir::LOSS_CSV)).unwrap();
     let col = |name: &str| losses.columns.iter().position(|c| c == name).unwrap_or_else(|| panic!("a {name} column"));
@@ -307,6 +308,7 @@ fn a_stylizer_fine_tuned_with_the_style_statistics_loss_replaces_the_weights_sty
     let config: serde_json::Value = rundir::read_json(&run.join("config.json")).unwrap();
     let w = &config["train"]["stylizer_weights"];
     assert_eq!((w["style_stats"].as_f64(), w["content_shape"].as_f64()), (Some(1.0), Some(1.0)), "{config}");
+    assert_eq!(config["model"]["content_posture"], true, "{config}");
 
     let out = root.join("weights");
     ok(cli(&["export", "--from", p(&weights), "--sup", p(&run), "-o", p(&out)]));
@@ -314,6 +316,8 @@ fn a_stylizer_fine_tuned_with_the_style_statistics_loss_replaces_the_weights_sty
     assert!(bytes(&out, "shared.bin") == bytes(&weights, "shared.bin"), "the shared networks are unchanged");
     assert!(bytes(&out, "unsupervised.bin") == bytes(&weights, "unsupervised.bin"));
     assert!(bytes(&out, "supervised.bin") != bytes(&weights, "supervised.bin"), "the stylizer is the run's");
+    let exported = motion_stylizer::stylize::Weights::load_dir(&out).unwrap();
+    assert!(exported.model(motion_stylizer::stylize::Setting::Supervised).unwrap().config.content_posture, "the run's posture path is exported");
     let manifest: Manifest = rundir::read_json(&out.join("manifest.json")).unwrap();
     let old: Manifest = rundir::read_json(&weights.join("manifest.json")).unwrap();
     let (sup, old_sup) = (&manifest.models[0], &old.models[0]);

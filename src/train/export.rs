@@ -388,7 +388,10 @@ fn write_folder(
     let norm = std::fs::read(out.join(&manifest.norm)).with_context(|| format!("cannot read {}", manifest.norm))?;
     manifest.norm_bytes = Some(norm.len() as u64);
     manifest.norm_fnv1a64 = Some(fnv1a64(&norm));
-    let bytes = save_part(PartKind::Shared, first_config, shared, &encodings.shared)?;
+    // The posture path is a stylizer's option: the shared part's header leaves it out, so that
+    // shared.bin stays byte for byte the same (and cached in browsers) when a stylizer gains it.
+    let shared_config = first_config.clone().with_content_posture(false);
+    let bytes = save_part(PartKind::Shared, &shared_config, shared, &encodings.shared)?;
     rundir::write_atomic(&out.join("shared.bin"), &bytes)?;
     manifest.shared = Some(SharedEntry {
         file: file_ref("shared.bin", &bytes),
