@@ -107,8 +107,8 @@ mod strip {
 
     pub fn main() -> anyhow::Result<()> {
         let a = args()?;
-        let weights =
-            Weights::load_dir(&a.weights).with_context(|| format!("cannot load the weights in {}", a.weights.display()))?;
+        let weights = Weights::load_dir(&a.weights)
+            .with_context(|| format!("cannot load the weights in {}", a.weights.display()))?;
         let content = import(&a.content)?;
         let takes = list_takes(&a.data).with_context(|| format!("cannot list the takes in {}", a.data.display()))?;
         let real_take = |label: usize| -> Option<&(TakeId, PathBuf)> {

@@ -317,7 +317,10 @@ fn a_stylizer_fine_tuned_with_the_style_statistics_loss_replaces_the_weights_sty
     assert!(bytes(&out, "unsupervised.bin") == bytes(&weights, "unsupervised.bin"));
     assert!(bytes(&out, "supervised.bin") != bytes(&weights, "supervised.bin"), "the stylizer is the run's");
     let exported = motion_stylizer::stylize::Weights::load_dir(&out).unwrap();
-    assert!(exported.model(motion_stylizer::stylize::Setting::Supervised).unwrap().config.content_posture, "the run's posture path is exported");
+    assert!(
+        exported.model(motion_stylizer::stylize::Setting::Supervised).unwrap().config.content_posture,
+        "the run's posture path is exported"
+    );
     let manifest: Manifest = rundir::read_json(&out.join("manifest.json")).unwrap();
     let old: Manifest = rundir::read_json(&weights.join("manifest.json")).unwrap();
     let (sup, old_sup) = (&manifest.models[0], &old.models[0]);
