@@ -432,6 +432,25 @@ fn guidance_is_the_default_and_is_checked() {
     }
 }
 
+/// Guidance measures a style against `normal`, so `normal` itself is not guided: label-based, or a
+/// reference labelled `normal` (without this, the content term brought the content's own style
+/// back into a `normal` reference's output); a reference of another label is.
+#[test]
+fn the_neutral_style_is_not_guided_by_label_nor_by_reference() {
+    let w = weights();
+    let content = import("bandai", SHORT).motion;
+    let reference = import("bandai", WALK).motion;
+    let at = |source: StyleSource<'_>, g: f32| {
+        stylize::stylize(&w, &content, &Request::new(source).with_seed(3).with_guidance(g)).unwrap()
+    };
+    let normal = label(&w, "normal");
+    assert_eq!(at(StyleSource::Label(normal), 1.0), at(StyleSource::Label(normal), 0.0));
+    let by_reference = |g| at(StyleSource::labelled_motion(&reference, normal), g);
+    assert_eq!(by_reference(1.0), by_reference(0.0));
+    let old = |g| at(StyleSource::labelled_motion(&reference, label(&w, "old")), g);
+    assert_ne!(old(1.0), old(0.0));
+}
+
 /// Per-body-part styles: each part's joints (local rotations) come from its own request's output,
 /// the root and legs from the lower body's; a part without a request keeps the content's; parts
 /// with one request equal the whole-body stylization; bad part requests are typed errors.

@@ -257,9 +257,15 @@ fn neutral_codes(weights: &Weights, model: &Model, request: &Request<'_>) -> Res
         return Ok(Some(Codes { code: Tensor::zeros([n, d], model.device()), label: None }));
     }
     let Ok(normal) = weights.style(NEUTRAL_LABEL) else { return Ok(None) };
-    if request.source == StyleSource::Label(normal) {
-        // The neutral style itself: no difference to amplify, and the content term alone would
-        // only bring back the content's own style, which `normal` is asked to replace.
+    let neutral_itself = match request.source {
+        StyleSource::Label(s) | StyleSource::Motion { label: Some(s), .. } => s == normal,
+        _ => false,
+    };
+    if neutral_itself {
+        // The neutral style itself, by label or by a reference of it: no difference to amplify,
+        // and the content term alone would only bring back the content's own style, which
+        // `normal` is asked to replace (a `normal` reference's motion-based accuracy fell to
+        // 0.78 with it on the posture weights: EVALUATION.md, "The neutral reference").
         return Ok(None);
     }
     let temperature = match request.source {

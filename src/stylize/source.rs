@@ -99,9 +99,10 @@ pub struct Request<'a> {
     /// neutral style loses of it: `G_s + g·((G_s − G_n) + ½(z_c − G_n))`. 0 is the networks'
     /// output as trained (one generator pass less). Unlike strength, which scales every change
     /// from the content (the generator's drift under any style included), guidance amplifies the
-    /// style's own difference. [`Request::strength`] applies after it. Not applied to label-based
-    /// `normal` itself (it has no difference from itself) nor with supervised weights that have no
-    /// `normal` label (one's own styles).
+    /// style's own difference. [`Request::strength`] applies after it. Not applied to `normal`
+    /// itself, label-based or a reference labelled (or inferred) `normal` (it has no difference
+    /// from itself, and the content term would bring back the content's own style), nor with
+    /// supervised weights that have no `normal` label (one's own styles).
     pub guidance: f32,
 }
 
