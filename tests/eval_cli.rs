@@ -107,13 +107,14 @@ fn heldout_rows_have_every_metric_where_it_applies_and_null_where_not() {
     assert_eq!((dirs[0]["contents"].as_u64(), dirs[0]["takes"].as_u64()), (Some(1), Some(1)));
     assert!(dirs[0]["length"].as_f64().unwrap() > 0.3 && dirs[0]["scored"] == true);
     assert_eq!(v["directions"]["spread"].as_array().unwrap().len(), 12);
-    // Per-label rows: every targeted label of every row with a target; the identity's shift is 0
-    // and only `old` has one.
+    // Per-label rows: every targeted label of every row with a target, and the real takes of
+    // each style (no shift: they define the directions); the identity's shift is 0 and only
+    // `old` has one.
     let labels = v["labels"].as_array().unwrap();
-    assert!(labels.iter().all(|l| l["setting"] != "real" && l["setting"] != "unsup_prior"));
+    assert!(labels.iter().all(|l| l["setting"] != "unsup_prior"));
     for l in labels {
         let shift = &l["style_shift"];
-        assert_eq!(shift.is_f64(), l["style"] == "old", "{l}");
+        assert_eq!(shift.is_f64(), l["style"] == "old" && l["setting"] != "real", "{l}");
         if l["setting"] == "identity" && shift.is_f64() {
             assert_eq!(shift.as_f64(), Some(0.0));
         }
@@ -134,6 +135,17 @@ fn heldout_rows_have_every_metric_where_it_applies_and_null_where_not() {
             assert!(row(&v, setting)["content_fid"].as_f64().unwrap() > 0.0, "{setting} content FID");
         }
     }
+    // Per target label, the content accuracy of that label's outputs: weighted by the outputs, the
+    // labels of a row give back the row's (every repeat judges every content once).
+    for setting in ["real", "identity", "sup_motion", "sup_label", "unsup_motion"] {
+        let of_row: Vec<&Value> = labels.iter().filter(|l| l["setting"] == setting).collect();
+        let outputs: f64 = of_row.iter().map(|l| l["outputs"].as_f64().unwrap()).sum();
+        let pooled: f64 =
+            of_row.iter().map(|l| l["content_acc"].as_f64().unwrap() * l["outputs"].as_f64().unwrap()).sum::<f64>()
+                / outputs;
+        let acc = row(&v, setting)["content_acc"].as_f64().unwrap();
+        assert!((pooled - acc).abs() < 1e-9, "{setting}: labels pool to {pooled}, the row says {acc}");
+    }
     let _ = std::fs::remove_dir_all(dir);
 }
 
@@ -146,6 +158,10 @@ fn foreign_rig_contents_are_stylized_zero_shot() {
     assert!(row(&v, "sup_label")["style_acc"].is_f64());
     // Foreign files have no content class (no content accuracy) but a content FID to themselves.
     assert!(row(&v, "sup_label")["content_acc"].is_null());
+    // Per label too, but for the real (Bandai) takes the outputs are held to.
+    for l in v["labels"].as_array().unwrap() {
+        assert_eq!(l["content_acc"].is_null(), l["setting"] != "real", "{l}");
+    }
     assert!(row(&v, "sup_label")["content_fid"].as_f64().unwrap() > 0.0);
     let _ = std::fs::remove_dir_all(dir);
 }

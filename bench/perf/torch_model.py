@@ -3,7 +3,9 @@
 Layer for layer what `src/model/` runs at inference (conventions in `src/model/layers.rs`):
 a conv layer is [nearest ×2] → [reflection pad k//2] → conv (zero pad k//2 for the upsampling and
 generator convs instead) → [instance norm, no affine, eps 1e-5] → [LeakyReLU 0.2]; AdaIN is
-γ·IN(x) + β with [γ; β] from one linear layer on [style code; one-hot label]. Weights come straight
+γ·IN(x) + β with [γ; β] from one linear layer on [style code; one-hot label]. With the content's
+posture path (`content_posture` in the header, `src/model/generator.rs`), the generator's output
+latent gets a linear map (no bias) of the content latent's mean over time added. Weights come straight
 from our bundle (`weights.py`); Burn stores a Linear's weight as [in, out], PyTorch as [out, in].
 
 Two entry points, both from normalised features to normalised features (the stylization pipeline's
@@ -121,6 +123,12 @@ class Network(nn.Module):
             conv("regressor.out", activate=False),
         ])
         self.style_dim = config["style_dim"]
+        self.posture = None
+        if config.get("content_posture", False):
+            w = t[g + "posture.weight"]  # Burn: [in, out]
+            self.posture = nn.Linear(w.shape[0], w.shape[1], bias=False)
+            with torch.no_grad():
+                self.posture.weight.copy_(torch.from_numpy(w.T.copy()))
 
     def encode(self, features):
         x = features[:, :AE_INPUT]
@@ -129,9 +137,11 @@ class Network(nn.Module):
         return x
 
     def content_code(self, latent):
+        """The content code and, with the posture path, the latent's mean over time `[B, D_z]`."""
+        posture = latent.mean(dim=2) if self.posture is not None else None
         for layer in self.content:
             latent = layer(latent)
-        return latent
+        return latent, posture
 
     def style_mean(self, latent, label):
         h = self.style_down1(latent)
@@ -141,12 +151,15 @@ class Network(nn.Module):
         g = self.style_out(h.mean(dim=2, keepdim=True))
         return g[:, : self.style_dim, 0]
 
-    def generate(self, content, code, label):
+    def generate(self, content, posture, code, label):
         cond = torch.cat([code, label], dim=1)
         x = content
         for conv, adain in zip(self.gen_convs, self.gen_adain):
             x = adain(conv(x), cond)
-        return self.gen_out(x)
+        x = self.gen_out(x)
+        if posture is not None:
+            x = x + self.posture(posture)[:, :, None]
+        return x
 
     def finish(self, content_features, latent):
         x = latent
@@ -167,9 +180,9 @@ class MotionBased(nn.Module):
 
     def forward(self, content, style, label):
         n = self.net
-        code = n.content_code(n.encode(content))
+        code, posture = n.content_code(n.encode(content))
         mean = n.style_mean(n.encode(style), label)
-        return n.finish(content, n.generate(code, mean, label))
+        return n.finish(content, n.generate(code, posture, mean, label))
 
 
 class LabelBased(nn.Module):
@@ -179,9 +192,11 @@ class LabelBased(nn.Module):
 
     def forward(self, content, codes, labels):
         n = self.net
-        code = n.content_code(n.encode(content))
+        code, posture = n.content_code(n.encode(content))
         code = code.expand(codes.shape[0], -1, -1)
-        return n.finish(content, n.generate(code, codes, labels))
+        if posture is not None:
+            posture = posture.expand(codes.shape[0], -1)
+        return n.finish(content, n.generate(code, posture, codes, labels))
 
 
 def load(path):

@@ -114,16 +114,20 @@ pub struct Row {
     pub values: Vec<(&'static str, Option<f64>, Option<f64>)>,
 }
 
-/// One row's results for one target label, pooled over repeats and contents.
+/// One row's results for one target label, pooled over repeats and contents; for `real`, the
+/// held-out takes of that style (what the outputs with that target are held to).
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct LabelRow {
     pub setting: &'static str,
     pub style: usize,
-    /// Outputs with this target.
+    /// Outputs with this target (`real`: takes of this style, once per repeat).
     pub outputs: usize,
     pub style_acc: Option<f64>,
     /// Mean shift of the outputs (`None`: the style is not scored).
     pub style_shift: Option<f64>,
+    /// The content classifier's accuracy on these outputs (`None`: no content classifier, or no
+    /// content with a content label): which targets keep the content and which lose it.
+    pub content_acc: Option<f64>,
 }
 
 /// What [`evaluate`] gives: the table's rows and the per-label breakdown.
@@ -135,8 +139,29 @@ pub struct Evaluation {
     pub parts: Vec<PartShift>,
 }
 
-/// Per target label: (correct, judged, shifts).
-type LabelTally = BTreeMap<usize, (usize, usize, Vec<f64>)>;
+/// Per target label: what the outputs with that target measured, pooled over repeats and contents.
+#[derive(Default, Clone)]
+struct LabelTally {
+    correct: usize,
+    judged: usize,
+    shifts: Vec<f64>,
+    content_correct: usize,
+    content_judged: usize,
+}
+
+impl LabelTally {
+    fn count(&mut self, style: &Judgement, target: usize) {
+        self.judged += 1;
+        self.correct += usize::from(style.predicted == target);
+    }
+
+    fn count_content(&mut self, j: &Judgement, content: Option<usize>) {
+        if let Some(c) = content {
+            self.content_judged += 1;
+            self.content_correct += usize::from(j.predicted == c);
+        }
+    }
+}
 
 impl Row {
     pub fn get(&self, metric: &str) -> Option<f64> {
@@ -241,7 +266,7 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
     let total = inputs.repeats * inputs.contents.len();
     let mut per_row: Vec<Vec<[Option<f64>; COLUMNS.len()]>> = vec![Vec::new(); ROWS.len()];
     let mut done = 0;
-    let mut labels: Vec<LabelTally> = vec![BTreeMap::new(); ROWS.len()];
+    let mut labels: Vec<BTreeMap<usize, LabelTally>> = vec![BTreeMap::new(); ROWS.len()];
     // Per part variant: (shifts on the lower body's descriptors, on the upper body's).
     let mut part_shifts: Vec<(Vec<f64>, Vec<f64>)> = vec![(Vec::new(), Vec::new()); PART_VARIANTS.len()];
     let content_descriptors: Vec<_> =
@@ -263,8 +288,12 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
             let others: Vec<usize> = same.iter().copied().filter(|&k| k != i).collect();
             let pick = if others.is_empty() { i } else { others[below(&mut rng, others.len())] };
             tallies[0].judge(judged_heldout[i].clone(), Some(style), &judged_heldout[pick].feature);
+            // Per style, the real takes' accuracies: what the outputs of that target are held to.
+            let entry = labels[0].entry(style).or_default();
+            entry.count(&judged_heldout[i], style);
             // Content accuracy of the real takes (no content FID: they are the contents).
             if let Some(j) = &heldout_content[i] {
+                entry.count_content(j, h.content);
                 tallies[0].count_content(j, h.content);
             }
             pool(&mut tallies[0].skate, heldout_skate[i]);
@@ -292,14 +321,14 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
             // identity
             let judged = inputs.judge.judge(&content.motion);
             let entry = labels[1].entry(target).or_default();
-            entry.0 += usize::from(judged.predicted == target);
-            entry.1 += 1;
+            entry.count(&judged, target);
             if let Some(s) = shift_of(&content.motion) {
                 tallies[1].shift.push(s);
-                entry.2.push(s);
+                entry.shifts.push(s);
             }
             tallies[1].judge(judged, Some(target), &ref_feature);
             if let Some(j) = content_j {
+                entry.count_content(j, content.content);
                 tallies[1].judge_content(j.clone(), content.content, &j.feature);
             }
             tallies[1].geodesic.push(0.0);
@@ -350,19 +379,25 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
                 };
                 let t = &mut tallies[row];
                 let judged = inputs.judge.judge(&output);
+                let of_content = match (inputs.content_judge, content_j) {
+                    (Some(judge), Some(of_content)) => Some((judge.judge(&output), of_content)),
+                    _ => None,
+                };
                 if row != 5 {
                     let entry = labels[row].entry(target).or_default();
-                    entry.0 += usize::from(judged.predicted == target);
-                    entry.1 += 1;
+                    entry.count(&judged, target);
                     if let Some(s) = shift_of(&output) {
                         t.shift.push(s);
-                        entry.2.push(s);
+                        entry.shifts.push(s);
+                    }
+                    if let Some((j, _)) = &of_content {
+                        entry.count_content(j, content.content);
                     }
                 }
                 let target = (row != 5).then_some(target);
                 t.judge(judged, target, &ref_feature);
-                if let (Some(judge), Some(of_content)) = (inputs.content_judge, content_j) {
-                    t.judge_content(judge.judge(&output), content.content, &of_content.feature);
+                if let Some((j, of_content)) = of_content {
+                    t.judge_content(j, content.content, &of_content.feature);
                 }
                 if let Some(g) = geodesic(&content.motion, &output) {
                     t.geodesic.push(g);
@@ -387,12 +422,13 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
         .iter()
         .enumerate()
         .flat_map(|(row, by_label)| {
-            by_label.iter().map(move |(&style, (correct, judged, shifts))| LabelRow {
+            by_label.iter().map(move |(&style, t)| LabelRow {
                 setting: ROWS[row],
                 style,
-                outputs: *judged,
-                style_acc: (*judged > 0).then(|| *correct as f64 / *judged as f64),
-                style_shift: (!shifts.is_empty()).then(|| shifts.iter().sum::<f64>() / shifts.len() as f64),
+                outputs: t.judged,
+                style_acc: (t.judged > 0).then(|| t.correct as f64 / t.judged as f64),
+                style_shift: (!t.shifts.is_empty()).then(|| t.shifts.iter().sum::<f64>() / t.shifts.len() as f64),
+                content_acc: (t.content_judged > 0).then(|| t.content_correct as f64 / t.content_judged as f64),
             })
         })
         .collect();

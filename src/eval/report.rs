@@ -1,6 +1,6 @@
 //! The evaluation's outputs: plain-text tables and JSON (`{"rows": [{"setting": …,
 //! "style_acc": 0.93, "style_acc_ci": 0.01, …}, …], "labels": [{"setting", "style", "outputs",
-//! "style_acc", "style_shift"}, …], "directions": …}`, null where a metric does not apply).
+//! "style_acc", "style_shift", "content_acc"}, …], "directions": …}`, null where a metric does not apply).
 
 use serde_json::{Map, Value, json};
 
@@ -50,7 +50,7 @@ pub fn to_json(
         .iter()
         .map(|l| {
             json!({"setting": l.setting, "style": name(l.style), "outputs": l.outputs,
-                   "style_acc": l.style_acc, "style_shift": l.style_shift})
+                   "style_acc": l.style_acc, "style_shift": l.style_shift, "content_acc": l.content_acc})
         })
         .collect();
     let directions = directions.map(|d| {
@@ -101,18 +101,24 @@ pub fn directions_from_json(value: &Value, styles: &[String]) -> Option<Directio
 }
 
 /// Per target label: each row's style accuracy and style shift (`—`: not measured or the style is
-/// not scored), and the direction's length in spreads.
+/// not scored), with a content classifier its content accuracy, and the direction's length in
+/// spreads.
 pub fn labels_table(eval: &Evaluation, directions: Option<&Directions>, styles: &[String]) -> String {
     let settings: Vec<&str> = {
         let mut v: Vec<&str> = eval.labels.iter().map(|l| l.setting).collect();
         v.dedup();
         v
     };
+    let with_content = eval.labels.iter().any(|l| l.content_acc.is_some());
     let mut out = String::from("| label | direction |");
     for s in &settings {
         out.push_str(&format!(" {s} acc | {s} shift |"));
+        if with_content {
+            out.push_str(&format!(" {s} content |"));
+        }
     }
-    out.push_str(&format!("\n|---|---|{}\n", "---|---|".repeat(settings.len())));
+    let per_setting = if with_content { "---|---|---|" } else { "---|---|" };
+    out.push_str(&format!("\n|---|---|{}\n", per_setting.repeat(settings.len())));
     let mut label_ids: Vec<usize> = eval.labels.iter().map(|l| l.style).collect();
     label_ids.sort_unstable();
     label_ids.dedup();
@@ -127,6 +133,9 @@ pub fn labels_table(eval: &Evaluation, directions: Option<&Directions>, styles: 
             let acc = cell(l.and_then(|l| l.style_acc), None, 3);
             let shift = cell(l.and_then(|l| l.style_shift), None, 2);
             out.push_str(&format!(" {acc} | {shift} |"));
+            if with_content {
+                out.push_str(&format!(" {} |", cell(l.and_then(|l| l.content_acc), None, 3)));
+            }
         }
         out.push('\n');
     }
