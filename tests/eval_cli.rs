@@ -177,3 +177,34 @@ fn a_missing_data_folder_is_a_clear_error() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("/nonexistent/data"), "{err}");
 }
+
+#[test]
+fn content_prefix_keeps_only_the_contents_named_so() {
+    let dir = tmp("prefix");
+    // One of the four held-out takes is set 1's: it alone is stylized; the references and the
+    // `real` row still come from every held-out take.
+    let v = eval(&dir, &["--content-prefix", "dataset-1_"]);
+    assert_eq!(v["provenance"]["num_contents"], 1);
+    assert_eq!(v["provenance"]["num_heldout"], 4);
+    let outputs: u64 = v["labels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|l| l["setting"] == "sup_label")
+        .map(|l| l["outputs"].as_u64().unwrap())
+        .sum();
+    assert_eq!(outputs, 2, "one content × 2 repeats");
+
+    // A prefix no content has is an error that says so, not an empty evaluation.
+    let split = mini_data(&dir);
+    let out = Command::new(env!("CARGO_BIN_EXE_motion-stylizer"))
+        .current_dir(root())
+        .args(["eval", "--data", dir.to_str().unwrap(), "--split", split.to_str().unwrap()])
+        .args(["--repeats", "1", "--content-prefix", "dataset-3_"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--content-prefix \"dataset-3_\": none of the 4 contents"), "{err}");
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -35,6 +35,11 @@ pub struct EvalArgs {
     /// Also write the results as JSON.
     #[arg(long, value_name = "OUT")]
     json: Option<PathBuf>,
+    /// Only the contents whose name (a take's file stem, e.g. `dataset-1_walk_happy_001`, or a
+    /// --content file's) starts with PREFIX, before --limit: e.g. `dataset-1_` for Bandai set 1's
+    /// held-out takes, to see which contents keep their class.
+    #[arg(long, value_name = "PREFIX")]
+    content_prefix: Option<String>,
     /// At most this many contents (evenly spaced; 0: all).
     #[arg(long, default_value_t = 0, value_name = "N")]
     limit: usize,
@@ -145,6 +150,14 @@ pub fn run(args: &EvalArgs) -> anyhow::Result<()> {
             ok
         }
     };
+    if let Some(prefix) = &args.content_prefix {
+        let all = contents.len();
+        contents.retain(|c| c.name.starts_with(prefix.as_str()));
+        anyhow::ensure!(
+            !contents.is_empty(),
+            "--content-prefix {prefix:?}: none of the {all} contents' names starts with it"
+        );
+    }
     if args.limit > 0 && contents.len() > args.limit {
         let n = contents.len();
         contents = (0..args.limit).map(|i| contents[i * n / args.limit].clone()).collect();
