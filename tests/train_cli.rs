@@ -248,6 +248,13 @@ fn bad_arguments_fail_with_a_clear_message() {
     let o = train(&["stylizer", "--ae", p(&out)], &root, &out, 2, &["--hsa=-1"]);
     assert!(!o.status.success() && stderr(&o).contains("--hsa -1"), "{}", stderr(&o));
     assert!(!out.exists(), "nothing written on a bad argument");
+    // The pairings that are judged by the style statistics need them.
+    for flag in ["--cross-content", "--cross-set"] {
+        let o = train(&["stylizer", "--ae", p(&out)], &root, &out, 2, &[flag]);
+        let needs = format!("{flag} needs --style-stats above 0");
+        assert!(!o.status.success() && stderr(&o).contains(&needs), "{}", stderr(&o));
+        assert!(!out.exists(), "nothing written on a bad argument");
+    }
 
     let o = cli(&["train", "ae", "--data", p(&root.join("nowhere")), "--out", p(&out)]);
     assert!(!o.status.success() && stderr(&o).contains("dataset-1"), "{}", stderr(&o));

@@ -49,6 +49,11 @@ enum StageArgs {
         /// is judged by the partner's statistics, so the content's posture must come through.
         #[arg(long)]
         cross_content: bool,
+        /// Content pairs across the data sets (not in the paper; new runs, with --style-stats): a
+        /// content-paired row's partner may be the same content in a style of the other Bandai
+        /// set (they share `walk` and `run`), so set 1's styles get a target on set 2's contents.
+        #[arg(long)]
+        cross_set: bool,
         /// The content's posture past AdaIN (not in the paper; new runs): the generator adds a
         /// linear map of the content latent's mean over time to its output. From weights without
         /// it (--from), the map starts at zero.
@@ -154,6 +159,7 @@ pub fn run(args: TrainArgs) -> anyhow::Result<()> {
             content_shape,
             hsa,
             cross_content,
+            cross_set,
             content_posture,
         } => {
             for (flag, w) in
@@ -165,8 +171,18 @@ pub fn run(args: TrainArgs) -> anyhow::Result<()> {
                 !cross_content || style_stats > 0.0,
                 "--cross-content needs --style-stats above 0 (its swaps are judged by the style statistics)"
             );
-            let extra =
-                train::losses::StylizerExtras { style_stats, content_shape, hsa, cross_content, content_posture };
+            anyhow::ensure!(
+                !cross_set || style_stats > 0.0,
+                "--cross-set needs --style-stats above 0 (its pairs are judged by the style statistics)"
+            );
+            let extra = train::losses::StylizerExtras {
+                style_stats,
+                content_shape,
+                hsa,
+                cross_content,
+                cross_set,
+                content_posture,
+            };
             (options, Stage::Stylizer { ae, supervised: !unsupervised, extra })
         }
     };

@@ -26,6 +26,9 @@ pub struct TrainData {
     /// whose takes in other styles the stylizer's content-paired rows draw from
     /// ([`WindowSampler::content_partner`]); `None` for a clip without a content.
     pub groups: Vec<Option<u32>>,
+    /// The same groups with the data sets merged (content and mirroring alone), for runs whose
+    /// content pairs cross the sets ([`super::losses::StylizerWeights::cross_set`]).
+    pub groups_across_sets: Vec<Option<u32>>,
     /// Each clip's content alone (the same number for a content in either data set, mirrored or
     /// not): the style sources of the cross-content swaps come from another content
     /// ([`WindowSampler::style_clip_elsewhere`]); `None` for a clip without a content.
@@ -55,13 +58,14 @@ fn normalized(clips: &[Clip], norm: &NormStats) -> Vec<Features> {
 }
 
 /// Numbers the clips' content groups: (data set, content, mirrored) for a Bandai-Namco take,
-/// (content, mirrored) for a folder's file with a content; `None` without a content.
-fn content_groups(clips: &[Clip]) -> Vec<Option<u32>> {
+/// (content, mirrored) for a folder's file with a content, and for every clip with
+/// `across_sets`; `None` without a content.
+fn content_groups(clips: &[Clip], across_sets: bool) -> Vec<Option<u32>> {
     let mut ids: std::collections::HashMap<(u8, &str, bool), u32> = Default::default();
     clips
         .iter()
         .map(|c| {
-            let set = c.take.as_ref().map_or(0, |t| t.set);
+            let set = if across_sets { 0 } else { c.take.as_ref().map_or(0, |t| t.set) };
             let content = c.content.as_deref()?;
             let next = ids.len() as u32;
             Some(*ids.entry((set, content, c.mirrored)).or_insert(next))
@@ -164,7 +168,8 @@ impl TrainData {
         }
         let clips = normalized(&train, &norm);
         let labels: Vec<usize> = train.iter().filter_map(class).collect();
-        let groups = content_groups(&train);
+        let groups = content_groups(&train, false);
+        let groups_across_sets = content_groups(&train, true);
         let content_of = content_ids(&train);
         let frames: Vec<usize> = clips.iter().map(Features::frames).collect();
         let sampler = WindowSampler::new(&frames, &labels, window);
@@ -210,6 +215,7 @@ impl TrainData {
             clips,
             labels,
             groups,
+            groups_across_sets,
             contents: content_of,
             sampler,
             heldout,
@@ -219,5 +225,51 @@ impl TrainData {
             window,
             device: device.clone(),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dataset::TakeId;
+
+    fn clip(stem: &str, mirrored: bool) -> Clip {
+        let take = TakeId::parse(stem).expect("a Bandai take name");
+        Clip {
+            content: Some(take.content.clone()),
+            take: Some(take),
+            name: stem.to_string(),
+            style: None,
+            mirrored,
+            features: Features::new(1, vec![0.0; crate::features::DIM]).expect("one frame"),
+        }
+    }
+
+    #[test]
+    fn content_groups_keep_the_data_sets_apart_unless_asked_to_merge_them() {
+        let clips = [
+            clip("dataset-1_walk_happy_001", false),
+            clip("dataset-2_walk_normal_001", false),
+            clip("dataset-2_walk_elderly_002", false),
+            clip("dataset-1_walk_happy_001", true),
+            clip("dataset-2_walk_normal_001", true),
+            clip("dataset-1_run_angry_001", false),
+        ];
+        let by_set = content_groups(&clips, false);
+        // Set 1's walk, set 2's walk (two takes), each mirrored apart, and set 1's run.
+        assert_eq!(by_set[1], by_set[2]);
+        assert_ne!(by_set[0], by_set[1]);
+        assert_ne!(by_set[0], by_set[3], "a mirror is its own group");
+        let distinct: BTreeSet<_> = by_set.iter().collect();
+        assert_eq!(distinct.len(), 5);
+
+        let across = content_groups(&clips, true);
+        // One content, one group, whichever set: the walks meet; mirrors and the run stay apart.
+        assert!(across[0] == across[1] && across[1] == across[2], "{across:?}");
+        assert_eq!(across[3], across[4]);
+        assert_ne!(across[0], across[3]);
+        assert_ne!(across[5], across[0]);
+        let distinct: BTreeSet<_> = across.iter().collect();
+        assert_eq!(distinct.len(), 3);
     }
 }

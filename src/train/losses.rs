@@ -171,6 +171,12 @@ pub struct StylizerWeights {
     /// [`StylizerInputs::style_source`]). `false`: the partner is the style source.
     #[serde(default)]
     pub cross_content: bool,
+    /// Content pairs across the data sets (not in the paper; needs `style_stats` above 0): a
+    /// content-paired row's partner is the same content in another style of *either* data set
+    /// (Bandai's two share `walk` and `run`), so set 1's styles are also shown, with a target, on
+    /// set 2's takes of those contents. `false`: partners from the row's own data set.
+    #[serde(default)]
+    pub cross_set: bool,
 }
 
 /// What a stylizer run adds to the paper's recipe: losses (their weights; 0: not used), the
@@ -187,6 +193,8 @@ pub struct StylizerExtras {
     pub hsa: Option<f32>,
     /// [`StylizerWeights::cross_content`].
     pub cross_content: bool,
+    /// [`StylizerWeights::cross_set`].
+    pub cross_set: bool,
     /// [`crate::model::ModelConfig::content_posture`] (new runs; a fine-tune from weights without
     /// it starts with the posture map at zero, i.e. from those weights' outputs).
     pub content_posture: bool,
@@ -201,17 +209,34 @@ impl StylizerExtras {
             || self.content_shape > 0.0
             || self.hsa.is_some()
             || self.cross_content
+            || self.cross_set
             || self.content_posture
     }
 }
 
 impl StylizerWeights {
     /// Paper, supervised: (hsa, cyc, kl) = (1, 0.1, 0.1).
-    pub const SUPERVISED: Self =
-        Self { rec: 1.0, hsa: 1.0, cyc: 0.1, kl: 0.1, style_stats: 0.0, content_shape: 0.0, cross_content: false };
+    pub const SUPERVISED: Self = Self {
+        rec: 1.0,
+        hsa: 1.0,
+        cyc: 0.1,
+        kl: 0.1,
+        style_stats: 0.0,
+        content_shape: 0.0,
+        cross_content: false,
+        cross_set: false,
+    };
     /// Paper, unsupervised: (hsa, cyc, kl) = (0.1, 1, 0.01).
-    pub const UNSUPERVISED: Self =
-        Self { rec: 1.0, hsa: 0.1, cyc: 1.0, kl: 0.01, style_stats: 0.0, content_shape: 0.0, cross_content: false };
+    pub const UNSUPERVISED: Self = Self {
+        rec: 1.0,
+        hsa: 0.1,
+        cyc: 1.0,
+        kl: 0.01,
+        style_stats: 0.0,
+        content_shape: 0.0,
+        cross_content: false,
+        cross_set: false,
+    };
 
     /// The paper's weights for the given mode.
     pub fn paper(supervised: bool) -> Self {

@@ -231,6 +231,11 @@ fn stylizer_sampler(extra: StylizerExtras) -> String {
              4k's, each uniformly among the style's clips of another content, the style sources of rows 4k and 4k+1",
         );
     }
+    if extra.style_stats > 0.0 && extra.cross_set {
+        s.push_str(
+            "; content groups across the data sets: row 4k+1 may be the same content in a style of the other set",
+        );
+    }
     s
 }
 
@@ -242,6 +247,7 @@ fn stylizer_train(supervised: bool, extra: StylizerExtras) -> TrainConfig {
         style_stats: extra.style_stats,
         content_shape: extra.content_shape,
         cross_content: extra.cross_content,
+        cross_set: extra.cross_set,
         hsa: extra.hsa.unwrap_or(paper.hsa),
         ..paper
     });

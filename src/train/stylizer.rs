@@ -277,6 +277,7 @@ impl Trainer for StylizerTrainer {
         // another content, and the pair's swaps take their styles from them.
         let paired_rows = self.weights.style_stats > 0.0;
         let cross = paired_rows && self.weights.cross_content;
+        let groups = if self.weights.cross_set { &data.groups_across_sets } else { &data.groups };
         let mut pairs = Vec::with_capacity(data.batch);
         let mut content_paired = Vec::new();
         let mut source: Vec<usize> = super::losses::partner_permutation(data.batch);
@@ -285,7 +286,7 @@ impl Trainer for StylizerTrainer {
             let first = data.sampler.pair(rng);
             let quad = cross && row % 4 == 0 && row + 3 < data.batch;
             let partner = (paired_rows && row % 4 == 0 && row + 1 < data.batch)
-                .then(|| data.sampler.content_partner(first.0.clip, &data.groups, rng))
+                .then(|| data.sampler.content_partner(first.0.clip, groups, rng))
                 .flatten();
             let sources = match (&partner, quad) {
                 (Some(p), true) => {
