@@ -52,6 +52,8 @@ enum StageArgs {
         /// Content pairs across the data sets (not in the paper; new runs, with --style-stats): a
         /// content-paired row's partner may be the same content in a style of the other Bandai
         /// set (they share `walk` and `run`), so set 1's styles get a target on set 2's contents.
+        /// Measured to cost set 1's targets their content (EVALUATION.md, "Content pairs across
+        /// the sets"): kept for the record, not in the shipped recipe.
         #[arg(long)]
         cross_set: bool,
         /// The content's posture past AdaIN (not in the paper; new runs): the generator adds a
