@@ -169,14 +169,12 @@ pub fn run(args: TrainArgs) -> anyhow::Result<()> {
             {
                 anyhow::ensure!(w.is_finite() && w >= 0.0, "{flag} {w}: the weight must be 0 or more");
             }
-            anyhow::ensure!(
-                !cross_content || style_stats > 0.0,
-                "--cross-content needs --style-stats above 0 (its swaps are judged by the style statistics)"
-            );
-            anyhow::ensure!(
-                !cross_set || style_stats > 0.0,
-                "--cross-set needs --style-stats above 0 (its pairs are judged by the style statistics)"
-            );
+            for (flag, on, what) in [("--cross-content", cross_content, "swaps"), ("--cross-set", cross_set, "pairs")] {
+                anyhow::ensure!(
+                    !on || style_stats > 0.0,
+                    "{flag} needs --style-stats above 0 (its {what} are judged by the style statistics)"
+                );
+            }
             let extra = train::losses::StylizerExtras {
                 style_stats,
                 content_shape,

@@ -139,28 +139,33 @@ pub struct Evaluation {
     pub parts: Vec<PartShift>,
 }
 
+/// A classifier's hits: motions judged against a known class, and how many it got right.
+#[derive(Default, Clone, Copy)]
+struct Hits {
+    correct: usize,
+    judged: usize,
+}
+
+impl Hits {
+    /// Counts judgement `j` of a motion of class `truth` (`None`: no class, not counted).
+    fn count(&mut self, j: &Judgement, truth: Option<usize>) {
+        if let Some(t) = truth {
+            self.judged += 1;
+            self.correct += usize::from(j.predicted == t);
+        }
+    }
+
+    fn accuracy(&self) -> Option<f64> {
+        (self.judged > 0).then(|| self.correct as f64 / self.judged as f64)
+    }
+}
+
 /// Per target label: what the outputs with that target measured, pooled over repeats and contents.
 #[derive(Default, Clone)]
 struct LabelTally {
-    correct: usize,
-    judged: usize,
+    style: Hits,
     shifts: Vec<f64>,
-    content_correct: usize,
-    content_judged: usize,
-}
-
-impl LabelTally {
-    fn count(&mut self, style: &Judgement, target: usize) {
-        self.judged += 1;
-        self.correct += usize::from(style.predicted == target);
-    }
-
-    fn count_content(&mut self, j: &Judgement, content: Option<usize>) {
-        if let Some(c) = content {
-            self.content_judged += 1;
-            self.content_correct += usize::from(j.predicted == c);
-        }
-    }
+    content: Hits,
 }
 
 impl Row {
@@ -172,8 +177,7 @@ impl Row {
 /// What one repeat measured for one row, summed over contents.
 #[derive(Default, Clone)]
 struct Tally {
-    correct: usize,
-    judged: usize,
+    style: Hits,
     features: Vec<Vec<f32>>,
     references: Vec<Vec<f32>>,
     geodesic: Vec<f64>,
@@ -185,8 +189,7 @@ struct Tally {
     reference_skate: (f64, usize),
     shift: Vec<f64>,
     /// Content classifier: outputs whose content class it predicts, of those with a class.
-    content_correct: usize,
-    content_judged: usize,
+    content: Hits,
     /// Content classifier features of the outputs and of their contents.
     content_features: Vec<Vec<f32>>,
     content_references: Vec<Vec<f32>>,
@@ -203,26 +206,15 @@ fn pooled_mean((sum, count): (f64, usize)) -> Option<f64> {
 
 impl Tally {
     fn judge(&mut self, j: Judgement, target: Option<usize>, reference: &[f32]) {
-        if let Some(x) = target {
-            self.judged += 1;
-            self.correct += usize::from(j.predicted == x);
-        }
+        self.style.count(&j, target);
         self.features.push(j.feature);
         self.references.push(reference.to_vec());
-    }
-
-    /// Counts the content classifier's judgement `j` of a motion whose content class is `content`.
-    fn count_content(&mut self, j: &Judgement, content: Option<usize>) {
-        if let Some(c) = content {
-            self.content_judged += 1;
-            self.content_correct += usize::from(j.predicted == c);
-        }
     }
 
     /// The content classifier's judgement of an output whose content is `content` (`of_content`:
     /// its judgement of the content itself).
     fn judge_content(&mut self, j: Judgement, content: Option<usize>, of_content: &[f32]) {
-        self.count_content(&j, content);
+        self.content.count(&j, content);
         self.content_features.push(j.feature);
         self.content_references.push(of_content.to_vec());
     }
@@ -230,7 +222,7 @@ impl Tally {
     fn per_repeat(&self) -> [Option<f64>; COLUMNS.len()] {
         let mean = |v: &[f64]| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
         [
-            (self.judged > 0).then(|| self.correct as f64 / self.judged as f64),
+            self.style.accuracy(),
             fid(&self.features, &self.references),
             mean(&self.geodesic),
             mean(&self.diversity),
@@ -238,7 +230,7 @@ impl Tally {
             pooled_mean(self.skate),
             pooled_mean(self.reference_skate),
             mean(&self.shift),
-            (self.content_judged > 0).then(|| self.content_correct as f64 / self.content_judged as f64),
+            self.content.accuracy(),
             fid(&self.content_features, &self.content_references),
         ]
     }
@@ -290,11 +282,11 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
             tallies[0].judge(judged_heldout[i].clone(), Some(style), &judged_heldout[pick].feature);
             // Per style, the real takes' accuracies: what the outputs of that target are held to.
             let entry = labels[0].entry(style).or_default();
-            entry.count(&judged_heldout[i], style);
+            entry.style.count(&judged_heldout[i], Some(style));
             // Content accuracy of the real takes (no content FID: they are the contents).
             if let Some(j) = &heldout_content[i] {
-                entry.count_content(j, h.content);
-                tallies[0].count_content(j, h.content);
+                entry.content.count(j, h.content);
+                tallies[0].content.count(j, h.content);
             }
             pool(&mut tallies[0].skate, heldout_skate[i]);
             pool(&mut tallies[0].reference_skate, heldout_skate[pick]);
@@ -321,14 +313,14 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
             // identity
             let judged = inputs.judge.judge(&content.motion);
             let entry = labels[1].entry(target).or_default();
-            entry.count(&judged, target);
+            entry.style.count(&judged, Some(target));
             if let Some(s) = shift_of(&content.motion) {
                 tallies[1].shift.push(s);
                 entry.shifts.push(s);
             }
             tallies[1].judge(judged, Some(target), &ref_feature);
             if let Some(j) = content_j {
-                entry.count_content(j, content.content);
+                entry.content.count(j, content.content);
                 tallies[1].judge_content(j.clone(), content.content, &j.feature);
             }
             tallies[1].geodesic.push(0.0);
@@ -385,13 +377,13 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
                 };
                 if row != 5 {
                     let entry = labels[row].entry(target).or_default();
-                    entry.count(&judged, target);
+                    entry.style.count(&judged, Some(target));
                     if let Some(s) = shift_of(&output) {
                         t.shift.push(s);
                         entry.shifts.push(s);
                     }
                     if let Some((j, _)) = &of_content {
-                        entry.count_content(j, content.content);
+                        entry.content.count(j, content.content);
                     }
                 }
                 let target = (row != 5).then_some(target);
@@ -425,10 +417,10 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
             by_label.iter().map(move |(&style, t)| LabelRow {
                 setting: ROWS[row],
                 style,
-                outputs: t.judged,
-                style_acc: (t.judged > 0).then(|| t.correct as f64 / t.judged as f64),
+                outputs: t.style.judged,
+                style_acc: t.style.accuracy(),
                 style_shift: (!t.shifts.is_empty()).then(|| t.shifts.iter().sum::<f64>() / t.shifts.len() as f64),
-                content_acc: (t.content_judged > 0).then(|| t.content_correct as f64 / t.content_judged as f64),
+                content_acc: t.content.accuracy(),
             })
         })
         .collect();
