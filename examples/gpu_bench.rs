@@ -90,8 +90,14 @@ mod bench {
         })?;
         let mut st = StylizerTrainer::new(config, TrainConfig::default(), ae.autoencoder.clone(), device, 2);
         drop(ae);
-        let batch =
-            StylizerBatch { motion1, motion2, labels: Some(labels), content_paired: Vec::new(), style_source: None };
+        let batch = StylizerBatch {
+            motion1,
+            motion2,
+            labels: Some(labels),
+            content_paired: Vec::new(),
+            style_source: None,
+            stats_offset: None,
+        };
         let st_s = time_steps(steps, || {
             st.step(&batch)?;
             Ok(())

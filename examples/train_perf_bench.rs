@@ -85,8 +85,14 @@ mod bench {
         let motion1 = features();
         let motion2 = features();
         let labels: Vec<usize> = (0..B).map(|i| (5 * i + 3) % config.num_styles).collect();
-        let batch =
-            StylizerBatch { motion1, motion2, labels: Some(labels), content_paired: Vec::new(), style_source: None };
+        let batch = StylizerBatch {
+            motion1,
+            motion2,
+            labels: Some(labels),
+            content_paired: Vec::new(),
+            style_source: None,
+            stats_offset: None,
+        };
         Setup { config, ae, stylizer, batch }
     }
 

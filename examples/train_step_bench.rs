@@ -93,6 +93,7 @@ mod bench {
                     labels: Some(labels),
                     content_paired: Vec::new(),
                     style_source: None,
+                    stats_offset: None,
                 };
                 let st_s = time_steps(steps, || {
                     st.phases = Some(PhaseTimes::default());

@@ -141,6 +141,7 @@ fn training_steps_on_wgpu_match_the_cpu() {
         labels: Some(vec![0, 2]),
         content_paired: Vec::new(),
         style_source: None,
+        stats_offset: None,
     };
     let stylizer_losses = |device: &Device| {
         let ae = seeded_xavier(MotionAutoencoder::new(&cfg(), device), 3);

@@ -145,6 +145,15 @@ fn heldout_rows_have_every_metric_where_it_applies_and_null_where_not() {
                 / outputs;
         let acc = row(&v, setting)["content_acc"].as_f64().unwrap();
         assert!((pooled - acc).abs() < 1e-9, "{setting}: labels pool to {pooled}, the row says {acc}");
+        // The mistakes account for every miss, each a content taken for another class.
+        for l in &of_row {
+            let mistakes = l["content_mistakes"].as_array().unwrap();
+            let missed: u64 = mistakes.iter().map(|m| m["count"].as_u64().unwrap()).sum();
+            let judged = l["outputs"].as_f64().unwrap();
+            let expected = judged * (1.0 - l["content_acc"].as_f64().unwrap());
+            assert!((missed as f64 - expected).abs() < 1e-6, "{setting}: {missed} mistakes, {expected} misses: {l}");
+            assert!(mistakes.iter().all(|m| m["content"] != m["taken_for"] && m["count"].as_u64().unwrap() > 0));
+        }
     }
     let _ = std::fs::remove_dir_all(dir);
 }

@@ -80,6 +80,7 @@ fn stylizer_overfits_one_batch() {
             labels: supervised.then(|| vec![0, 2]),
             content_paired: Vec::new(),
             style_source: None,
+            stats_offset: None,
         };
         let first = trainer.step(&batch).unwrap();
         let mut last = first.clone();
@@ -108,6 +109,7 @@ fn training_inputs_are_checked() {
         labels: None,
         content_paired: Vec::new(),
         style_source: None,
+        stats_offset: None,
     };
     assert!(matches!(trainer.step(&no_labels), Err(ModelError::Label(_))));
     let bad_len = StylizerBatch {
@@ -116,6 +118,7 @@ fn training_inputs_are_checked() {
         labels: Some(vec![0, 1]),
         content_paired: Vec::new(),
         style_source: None,
+        stats_offset: None,
     };
     assert!(matches!(trainer.step(&bad_len), Err(ModelError::FrameCount { frames: 20, .. })));
     let mut ae_trainer = AeTrainer::new(cfg(true), TrainConfig::default(), &dev, 1);
@@ -229,6 +232,7 @@ fn a_batch_split_into_row_groups_takes_the_whole_batch_step() {
                 // Two pairs in the first half, one in the second.
                 content_paired: vec![0, 1, 2, 3, 4, 5],
                 style_source: None,
+                stats_offset: None,
             };
             (0..3).map(|_| trainer.step(&batch).unwrap()).collect::<Vec<_>>()
         };
@@ -277,6 +281,7 @@ fn cross_content_style_sources_change_the_swaps_and_split_like_the_batch() {
         // Rows 0↔1 and 4↔5: one content in two styles; 2, 3 and 6, 7: their style sources.
         content_paired: vec![0, 1, 4, 5],
         style_source: None,
+        stats_offset: None,
     };
     let run = |batch: &StylizerBatch, chunks: usize| {
         let ae = seeded_xavier(MotionAutoencoder::new(&cfg, &dev), 3);

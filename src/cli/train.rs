@@ -56,6 +56,11 @@ enum StageArgs {
         /// the sets"): kept for the record, not in the shipped recipe.
         #[arg(long)]
         cross_set: bool,
+        /// With --cross-set: a pair across the sets is judged by its partner's statistics moved by
+        /// the difference between the two sets' `normal` takes of the content, so it carries the
+        /// partner's style (its difference from its own set's `normal`), not its set's capture.
+        #[arg(long, requires = "cross_set")]
+        cross_set_relative: bool,
         /// The content's posture past AdaIN (not in the paper; new runs): the generator adds a
         /// linear map of the content latent's mean over time to its output. From weights without
         /// it (--from), the map starts at zero.
@@ -162,6 +167,7 @@ pub fn run(args: TrainArgs) -> anyhow::Result<()> {
             hsa,
             cross_content,
             cross_set,
+            cross_set_relative,
             content_posture,
         } => {
             for (flag, w) in
@@ -181,6 +187,7 @@ pub fn run(args: TrainArgs) -> anyhow::Result<()> {
                 hsa,
                 cross_content,
                 cross_set,
+                cross_set_relative,
                 content_posture,
             };
             (options, Stage::Stylizer { ae, supervised: !unsupervised, extra })

@@ -63,6 +63,24 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_mirror_image_trades_left_and_right_contents() {
+        let class = |name: &str, mirrored| content_class_as_seen(name, mirrored).map(|c| CONTENTS[c]);
+        assert_eq!(class("walk-left", true), Some("walk-right"));
+        assert_eq!(class("walk-turn-right", true), Some("walk-turn-left"));
+        assert_eq!(class("raise-up-left-hand", true), Some("raise-up-right-hand"));
+        assert_eq!(class("wave-right-hand", true), Some("wave-left-hand"));
+        // Unchanged: the take itself, contents without a side, and contents without a class.
+        assert_eq!(class("walk-left", false), Some("walk-left"));
+        assert_eq!(class("wave-both-hands", true), Some("wave-both-hands"));
+        assert_eq!(class("run", true), Some("run"));
+        assert_eq!(class("kick", true), None);
+        // Every side-specific class has its mirror among the classes.
+        for name in CONTENTS {
+            assert!(class(name, true).is_some(), "{name}");
+        }
+    }
+
+    #[test]
     fn every_bandai_style_maps_and_merges_as_documented() {
         let set1 = [
             "normal",
@@ -126,4 +144,22 @@ pub const CONTENTS: [&str; 18] = [
 /// The content class of a take's content name (an index into [`CONTENTS`]), if it has one.
 pub fn content_class(content: &str) -> Option<usize> {
     CONTENTS.iter().position(|c| *c == content)
+}
+
+/// The content class of a take's mirror image (`mirrored`) or of the take: a mirrored
+/// `walk-left` walks to the right, a mirrored `raise-up-left-hand` raises the right hand, so
+/// `left` and `right` trade places in the name; other contents keep theirs.
+pub fn content_class_as_seen(content: &str, mirrored: bool) -> Option<usize> {
+    if !mirrored {
+        return content_class(content);
+    }
+    let swapped: Vec<&str> = content
+        .split('-')
+        .map(|w| match w {
+            "left" => "right",
+            "right" => "left",
+            w => w,
+        })
+        .collect();
+    content_class(&swapped.join("-"))
 }

@@ -11,5 +11,5 @@ pub mod folder;
 pub mod labels;
 pub mod split;
 
-pub use labels::{CONTENTS, STYLES, Style, content_class};
+pub use labels::{CONTENTS, STYLES, Style, content_class, content_class_as_seen};
 pub use split::{Split, TakeId};

@@ -128,6 +128,18 @@ pub struct LabelRow {
     /// The content classifier's accuracy on these outputs (`None`: no content classifier, or no
     /// content with a content label): which targets keep the content and which lose it.
     pub content_acc: Option<f64>,
+    /// The content classifier's mistakes on these outputs: which class a content was taken for,
+    /// and how many times, most frequent first.
+    pub content_mistakes: Vec<ContentMistake>,
+}
+
+/// Outputs of content `content` that the content classifier took for `taken_for`
+/// ([`crate::dataset::CONTENTS`]' names).
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct ContentMistake {
+    pub content: &'static str,
+    pub taken_for: &'static str,
+    pub count: usize,
 }
 
 /// What [`evaluate`] gives: the table's rows and the per-label breakdown.
@@ -166,6 +178,29 @@ struct LabelTally {
     style: Hits,
     shifts: Vec<f64>,
     content: Hits,
+    /// (content, predicted) → outputs, for the wrong predictions.
+    mistakes: std::collections::BTreeMap<(usize, usize), usize>,
+}
+
+impl LabelTally {
+    /// The content classifier's judgement `j` of a motion of content `truth`.
+    fn count_content(&mut self, j: &Judgement, truth: Option<usize>) {
+        self.content.count(j, truth);
+        if let Some(t) = truth.filter(|&t| t != j.predicted) {
+            *self.mistakes.entry((t, j.predicted)).or_default() += 1;
+        }
+    }
+
+    fn mistakes(&self) -> Vec<ContentMistake> {
+        let name = |i: usize| crate::dataset::CONTENTS.get(i).copied().unwrap_or("?");
+        let mut v: Vec<ContentMistake> = self
+            .mistakes
+            .iter()
+            .map(|(&(c, p), &count)| ContentMistake { content: name(c), taken_for: name(p), count })
+            .collect();
+        v.sort_by(|a, b| b.count.cmp(&a.count));
+        v
+    }
 }
 
 impl Row {
@@ -285,7 +320,7 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
             entry.style.count(&judged_heldout[i], Some(style));
             // Content accuracy of the real takes (no content FID: they are the contents).
             if let Some(j) = &heldout_content[i] {
-                entry.content.count(j, h.content);
+                entry.count_content(j, h.content);
                 tallies[0].content.count(j, h.content);
             }
             pool(&mut tallies[0].skate, heldout_skate[i]);
@@ -320,7 +355,7 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
             }
             tallies[1].judge(judged, Some(target), &ref_feature);
             if let Some(j) = content_j {
-                entry.content.count(j, content.content);
+                entry.count_content(j, content.content);
                 tallies[1].judge_content(j.clone(), content.content, &j.feature);
             }
             tallies[1].geodesic.push(0.0);
@@ -383,7 +418,7 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
                         entry.shifts.push(s);
                     }
                     if let Some((j, _)) = &of_content {
-                        entry.content.count(j, content.content);
+                        entry.count_content(j, content.content);
                     }
                 }
                 let target = (row != 5).then_some(target);
@@ -421,6 +456,7 @@ pub fn evaluate(inputs: &Inputs<'_>, progress: &mut Progress<'_>) -> Result<Eval
                 style_acc: t.style.accuracy(),
                 style_shift: (!t.shifts.is_empty()).then(|| t.shifts.iter().sum::<f64>() / t.shifts.len() as f64),
                 content_acc: t.content.accuracy(),
+                content_mistakes: t.mistakes(),
             })
         })
         .collect();

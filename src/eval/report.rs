@@ -1,6 +1,7 @@
 //! The evaluation's outputs: plain-text tables and JSON (`{"rows": [{"setting": …,
 //! "style_acc": 0.93, "style_acc_ci": 0.01, …}, …], "labels": [{"setting", "style", "outputs",
-//! "style_acc", "style_shift", "content_acc"}, …], "directions": …}`, null where a metric does not apply).
+//! "style_acc", "style_shift", "content_acc", "content_mistakes": [{"content", "taken_for",
+//! "count"}, …]}, …], "directions": …}`, null where a metric does not apply).
 
 use serde_json::{Map, Value, json};
 
@@ -50,7 +51,8 @@ pub fn to_json(
         .iter()
         .map(|l| {
             json!({"setting": l.setting, "style": name(l.style), "outputs": l.outputs,
-                   "style_acc": l.style_acc, "style_shift": l.style_shift, "content_acc": l.content_acc})
+                   "style_acc": l.style_acc, "style_shift": l.style_shift, "content_acc": l.content_acc,
+                   "content_mistakes": l.content_mistakes})
         })
         .collect();
     let directions = directions.map(|d| {

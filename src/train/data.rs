@@ -11,7 +11,7 @@ use super::sampler::WindowSampler;
 use super::settings::TrainOptions;
 use crate::dataset::corpus::{self, Clip};
 use crate::dataset::folder::{self, FolderListing};
-use crate::dataset::{CONTENTS, Split, content_class};
+use crate::dataset::{CONTENTS, Split, content_class_as_seen};
 use crate::features::{Features, NormStats};
 use std::collections::BTreeSet;
 
@@ -33,6 +33,12 @@ pub struct TrainData {
     /// not): the style sources of the cross-content swaps come from another content
     /// ([`WindowSampler::style_clip_elsewhere`]); `None` for a clip without a content.
     pub contents: Vec<Option<u32>>,
+    /// Each clip's content group's `normal` statistics (an index into `baselines`; `None` when
+    /// the group has no `normal` take of the window's length, or the run has no `normal` label):
+    /// the cross-set pairs' targets are moved by their difference
+    /// ([`super::losses::StylizerWeights::cross_set_relative`]).
+    pub baseline_of: Vec<Option<usize>>,
+    pub baselines: Vec<WindowStats>,
     pub sampler: WindowSampler,
     /// The fixed held-out windows and pairs.
     pub heldout: HeldoutSet,
@@ -71,6 +77,78 @@ fn content_groups(clips: &[Clip], across_sets: bool) -> Vec<Option<u32>> {
             Some(*ids.entry((set, content, c.mirrored)).or_insert(next))
         })
         .collect()
+}
+
+/// Per-feature time statistics of windows: each channel's mean over a window and its spread
+/// (standard deviation) over the window, as the style-statistics loss takes them, averaged over
+/// windows.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WindowStats {
+    pub mean: Vec<f32>,
+    pub spread: Vec<f32>,
+}
+
+impl WindowStats {
+    /// `self − other`, channel by channel: `(mean, spread)`.
+    pub fn minus(&self, other: &WindowStats) -> (Vec<f32>, Vec<f32>) {
+        let sub = |a: &[f32], b: &[f32]| a.iter().zip(b).map(|(x, y)| x - y).collect();
+        (sub(&self.mean, &other.mean), sub(&self.spread, &other.spread))
+    }
+}
+
+/// [`WindowStats`] of every `window`-frame window of `clips` at a stride of half a window (the
+/// loss's windows fall anywhere in a take); `None` when no clip is that long.
+fn window_stats(clips: &[&Features], window: usize) -> Option<WindowStats> {
+    let dim = crate::features::DIM;
+    let (mut mean, mut spread, mut n) = (vec![0f64; dim], vec![0f64; dim], 0usize);
+    let stride = (window / 2).max(1);
+    for clip in clips {
+        let mut start = 0;
+        while start + window <= clip.frames() {
+            for c in 0..dim {
+                let values = (start..start + window).map(|t| f64::from(clip.frame(t)[c]));
+                let m = values.clone().sum::<f64>() / window as f64;
+                let var = values.map(|v| (v - m) * (v - m)).sum::<f64>() / window as f64;
+                mean[c] += m;
+                // As the loss: sqrt(var + 1e-6).
+                spread[c] += (var + 1e-6).sqrt();
+            }
+            n += 1;
+            start += stride;
+        }
+    }
+    (n > 0).then(|| WindowStats {
+        mean: mean.iter().map(|v| (v / n as f64) as f32).collect(),
+        spread: spread.iter().map(|v| (v / n as f64) as f32).collect(),
+    })
+}
+
+/// Each content group's `normal` [`WindowStats`] (over the group's clips labelled `normal`),
+/// and each clip's group's index into them.
+fn normal_baselines(
+    clips: &[Features],
+    labels: &[usize],
+    groups: &[Option<u32>],
+    normal: Option<usize>,
+    window: usize,
+) -> (Vec<Option<usize>>, Vec<WindowStats>) {
+    let mut members: std::collections::BTreeMap<u32, Vec<&Features>> = Default::default();
+    if let Some(normal) = normal {
+        for ((clip, &label), group) in clips.iter().zip(labels).zip(groups) {
+            if let (true, Some(g)) = (label == normal, group) {
+                members.entry(*g).or_default().push(clip);
+            }
+        }
+    }
+    let mut baselines = Vec::new();
+    let mut index: std::collections::HashMap<u32, usize> = Default::default();
+    for (g, clips) in members {
+        if let Some(stats) = window_stats(&clips, window) {
+            index.insert(g, baselines.len());
+            baselines.push(stats);
+        }
+    }
+    (groups.iter().map(|g| g.and_then(|g| index.get(&g).copied())).collect(), baselines)
 }
 
 /// Numbers the clips' contents (by name alone); `None` without a content.
@@ -143,7 +221,8 @@ impl TrainData {
         let unlabelled = corpus.labels.len();
         let class = |c: &Clip| {
             if contents {
-                c.content.as_deref().and_then(content_class)
+                // A mirror's side-specific content is the other side's (a mirrored left turn turns right).
+                c.content.as_deref().and_then(|name| content_class_as_seen(name, c.mirrored))
             } else {
                 match c.style {
                     Some(s) => Some(s.index()),
@@ -171,6 +250,19 @@ impl TrainData {
         let groups = content_groups(&train, false);
         let groups_across_sets = content_groups(&train, true);
         let content_of = content_ids(&train);
+        // Only a supervised stylizer's labels are styles (`normal` among them).
+        let normal = (needs_labels && !contents && config.stage == "stylizer")
+            .then(|| corpus.labels.iter().position(|l| l == "normal"))
+            .flatten();
+        let (baseline_of, baselines) = normal_baselines(&clips, &labels, &groups, normal, window);
+        if normal.is_some() {
+            let with = baseline_of.iter().filter(|b| b.is_some()).count();
+            say(format!(
+                "normal baselines: {} content groups, covering {with} of {} clips",
+                baselines.len(),
+                clips.len()
+            ));
+        }
         let frames: Vec<usize> = clips.iter().map(Features::frames).collect();
         let sampler = WindowSampler::new(&frames, &labels, window);
         ensure!(sampler.eligible() > 0, "no training take has {window} frames or more (--window {window})");
@@ -217,6 +309,8 @@ impl TrainData {
             groups,
             groups_across_sets,
             contents: content_of,
+            baseline_of,
+            baselines,
             sampler,
             heldout,
             heldout_takes,
@@ -243,6 +337,45 @@ mod tests {
             mirrored,
             features: Features::new(1, vec![0.0; crate::features::DIM]).expect("one frame"),
         }
+    }
+
+    /// `frames` frames, every channel `f(t)`.
+    fn features(frames: usize, f: impl Fn(usize) -> f32) -> Features {
+        let dim = crate::features::DIM;
+        Features::new(frames, (0..frames).flat_map(|t| std::iter::repeat_n(f(t), dim)).collect()).expect("frames")
+    }
+
+    #[test]
+    fn normal_baselines_average_the_normal_windows_of_each_content_group() {
+        // `normal` is label 1. Group 0: a normal take at 1, a normal take alternating 0/2, and a
+        // take in another style; group 1: a normal take at 3; group 2: a normal take shorter
+        // than a window.
+        let clips = [
+            features(8, |_| 1.0),
+            features(8, |t| if t % 2 == 0 { 0.0 } else { 2.0 }),
+            features(8, |_| 9.0),
+            features(8, |_| 3.0),
+            features(3, |_| 5.0),
+        ];
+        let labels = [1, 1, 0, 1, 1];
+        let groups = [Some(0), Some(0), Some(0), Some(1), Some(2)];
+        let (of, baselines) = normal_baselines(&clips, &labels, &groups, Some(1), 4);
+        assert_eq!(baselines.len(), 2, "group 0 and group 1 (group 2 has no 4-frame window)");
+        assert_eq!(of, vec![Some(0), Some(0), Some(0), Some(1), None]);
+        // Group 0: the windows of both normal takes (3 each at stride 2; the other style's take at
+        // 9 left out): means 1 and 1, spreads ~0 and 1, on average 0.5 (the loss's 1e-6 under
+        // the root adds 0.0005).
+        let b = &baselines[0];
+        assert!(
+            (b.mean[0] - 1.0).abs() < 1e-6 && (b.spread[7] - 0.5005).abs() < 1e-3,
+            "{:?}",
+            (b.mean[0], b.spread[7])
+        );
+        let (mean, spread) = baselines[1].minus(b);
+        assert!((mean[3] - 2.0).abs() < 1e-6 && (spread[3] + 0.5).abs() < 1e-3);
+        // Without a `normal` label, no baseline.
+        let (of, baselines) = normal_baselines(&clips, &labels, &groups, None, 4);
+        assert!(baselines.is_empty() && of.iter().all(Option::is_none));
     }
 
     #[test]

@@ -262,6 +262,7 @@ pub fn evaluate_stylizer(
             labels: num_styles.map(|n| one_hot(&labels, n, device)),
             content_paired: Vec::new(),
             style_source: None,
+            stats_offset: None,
         };
         let l = stylizer_loss(net, &autoencoder.decoder, &inputs, weights, &mut noise);
         let terms = vec![l.total, l.rec_latent, l.rec_pose, l.cyc_latent, l.cyc_pose, l.kl, l.hsa];

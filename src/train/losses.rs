@@ -177,6 +177,12 @@ pub struct StylizerWeights {
     /// set 2's takes of those contents. `false`: partners from the row's own data set.
     #[serde(default)]
     pub cross_set: bool,
+    /// With [`cross_set`](Self::cross_set): a pair across the sets is judged by its partner's
+    /// statistics moved by the difference of the two sets' `normal` takes of the content
+    /// ([`StatsOffset`]), so the target carries the partner's *style* (its difference from its
+    /// own set's `normal`) and not its set's capture. `false`: the partner's raw statistics.
+    #[serde(default)]
+    pub cross_set_relative: bool,
 }
 
 /// What a stylizer run adds to the paper's recipe: losses (their weights; 0: not used), the
@@ -195,6 +201,8 @@ pub struct StylizerExtras {
     pub cross_content: bool,
     /// [`StylizerWeights::cross_set`].
     pub cross_set: bool,
+    /// [`StylizerWeights::cross_set_relative`].
+    pub cross_set_relative: bool,
     /// [`crate::model::ModelConfig::content_posture`] (new runs; a fine-tune from weights without
     /// it starts with the posture map at zero, i.e. from those weights' outputs).
     pub content_posture: bool,
@@ -210,6 +218,7 @@ impl StylizerExtras {
             || self.hsa.is_some()
             || self.cross_content
             || self.cross_set
+            || self.cross_set_relative
             || self.content_posture
     }
 }
@@ -225,6 +234,7 @@ impl StylizerWeights {
         content_shape: 0.0,
         cross_content: false,
         cross_set: false,
+        cross_set_relative: false,
     };
     /// Paper, unsupervised: (hsa, cyc, kl) = (0.1, 1, 0.01).
     pub const UNSUPERVISED: Self = Self {
@@ -236,6 +246,7 @@ impl StylizerWeights {
         content_shape: 0.0,
         cross_content: false,
         cross_set: false,
+        cross_set_relative: false,
     };
 
     /// The paper's weights for the given mode.
@@ -264,6 +275,25 @@ pub struct StylizerInputs {
     /// the batch; `None`: the partner row ([`partner_permutation`]). See
     /// [`StylizerWeights::cross_content`].
     pub style_source: Option<Vec<usize>>,
+    /// Offsets of the content-paired rows' target statistics (`None`: none).
+    pub stats_offset: Option<StatsOffset>,
+}
+
+/// Per-row offsets of the style-statistics targets, `[B, 260]` each: a content-paired row's swap
+/// is judged by its partner's per-feature mean and spread over time plus these
+/// ([`StylizerWeights::cross_set_relative`]: the row's data set's `normal` statistics of the
+/// content minus the partner's set's; zero within a set).
+#[derive(Clone, Debug)]
+pub struct StatsOffset {
+    pub mean: Tensor<2>,
+    pub spread: Tensor<2>,
+}
+
+impl StatsOffset {
+    /// The rows `rows` (a row group, or the judged rows by index).
+    fn select(&self, rows: Tensor<1, Int>) -> Self {
+        Self { mean: self.mean.clone().select(0, rows.clone()), spread: self.spread.clone().select(0, rows) }
+    }
 }
 
 /// Per-channel mean and standard deviation over time of `[B, C, T]` features: `([B, C], [B, C])`.
@@ -282,8 +312,18 @@ fn time_statistics(x: Tensor<3>) -> (Tensor<2>, Tensor<2>) {
 /// standard deviations, `[B, 260, T]` decoded swaps against `[B, 260, T]` targets (the
 /// windows' timing is free: nothing is compared frame by frame).
 pub fn style_statistics(decoded: Tensor<3>, target: Tensor<3>) -> Tensor<1> {
+    style_statistics_moved(decoded, target, None)
+}
+
+/// [`style_statistics`] against the target's statistics moved by `offset` (its spreads floored at
+/// 0): `mean(target) + offset.mean`, `max(spread(target) + offset.spread, 0)`.
+pub fn style_statistics_moved(decoded: Tensor<3>, target: Tensor<3>, offset: Option<StatsOffset>) -> Tensor<1> {
     let (m, s) = time_statistics(decoded);
-    let (mt, st) = time_statistics(target);
+    let (mut mt, mut st) = time_statistics(target);
+    if let Some(o) = offset {
+        mt = mt + o.mean;
+        st = (st + o.spread).clamp_min(0.0);
+    }
     smooth_l1(m, mt) + smooth_l1(s, st)
 }
 
@@ -343,6 +383,10 @@ impl StylizerInputs {
             content_paired: self.content_paired.iter().filter(|r| rows.contains(r)).map(|r| r - rows.start).collect(),
             // The caller keeps every source within its row group (`StylizerTrainer::step`).
             style_source: self.style_source.as_ref().map(|s| s[rows.clone()].iter().map(|r| r - rows.start).collect()),
+            stats_offset: self.stats_offset.as_ref().map(|o| StatsOffset {
+                mean: o.mean.clone().narrow(0, rows.start, rows.len()),
+                spread: o.spread.clone().narrow(0, rows.start, rows.len()),
+            }),
         }
     }
 }
@@ -512,7 +556,8 @@ pub fn stylizer_loss_drawn(
             let judged = if shape { p.clone().select(0, rows.clone()) } else { p.clone() };
             // The content partner's statistics (the style source's too, unless cross-content).
             let partners = index(inputs.content_paired.iter().map(|&r| partner[r]).collect());
-            style_statistics(judged, inputs.motion2.clone().select(0, partners))
+            let offset = inputs.stats_offset.as_ref().map(|o| o.select(rows.clone()));
+            style_statistics_moved(judged, inputs.motion2.clone().select(0, partners), offset)
         }
         _ => Tensor::zeros([1], &device),
     };
@@ -564,6 +609,25 @@ mod tests {
         let posture = loss(wave(1.0, 0.0, 0), wave(1.0, 0.4, 0));
         assert!(swing > 0.01 && posture > 0.01, "swing {swing}, posture {posture}");
         assert!(loss(wave(1.0, 0.0, 0), wave(1.0, 0.8, 0)) > 2.0 * posture);
+    }
+
+    #[test]
+    fn moved_style_statistics_judge_against_the_target_plus_the_offset() {
+        let offset = |mean: [f32; 2], spread: [f32; 2]| {
+            let t = |v: [f32; 2]| Tensor::from_data(TensorData::new(v.to_vec(), [1, 2]), &Device::flex());
+            StatsOffset { mean: t(mean), spread: t(spread) }
+        };
+        let moved = |a: Tensor<3>, b: Tensor<3>, o| style_statistics_moved(a, b, o).into_scalar::<f32>();
+        // No offset, or a zero one: the plain loss.
+        let plain = style_statistics(wave(1.0, 0.4, 0), wave(1.0, 0.0, 0)).into_scalar::<f32>();
+        assert_eq!(moved(wave(1.0, 0.4, 0), wave(1.0, 0.0, 0), None), plain);
+        assert_eq!(moved(wave(1.0, 0.4, 0), wave(1.0, 0.0, 0), Some(offset([0.0; 2], [0.0; 2]))), plain);
+        // The target's posture moved by +0.4 on the first feature: the output at +0.4 is on target.
+        assert!(moved(wave(1.0, 0.4, 0), wave(1.0, 0.0, 0), Some(offset([0.4, 0.0], [0.0; 2]))) < 1e-6);
+        // A larger swing asked for through the spread offset (a sine's spread is amp / √2).
+        let wider = offset([0.0; 2], [0.5 / 2f32.sqrt(), 0.0]);
+        assert!(moved(wave(1.5, 0.0, 3), wave(1.0, 0.0, 0), Some(wider.clone())) < 1e-4);
+        assert!(moved(wave(1.0, 0.0, 3), wave(1.0, 0.0, 0), Some(wider)) > 0.01);
     }
 
     #[test]

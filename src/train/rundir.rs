@@ -236,6 +236,12 @@ fn stylizer_sampler(extra: StylizerExtras) -> String {
             "; content groups across the data sets: row 4k+1 may be the same content in a style of the other set",
         );
     }
+    if extra.style_stats > 0.0 && extra.cross_set && extra.cross_set_relative {
+        s.push_str(
+            "; a pair across the sets is judged by the partner's statistics plus (the row's set's normal - the \
+             partner's set's normal) of the content",
+        );
+    }
     s
 }
 
@@ -248,6 +254,7 @@ fn stylizer_train(supervised: bool, extra: StylizerExtras) -> TrainConfig {
         content_shape: extra.content_shape,
         cross_content: extra.cross_content,
         cross_set: extra.cross_set,
+        cross_set_relative: extra.cross_set_relative,
         hsa: extra.hsa.unwrap_or(paper.hsa),
         ..paper
     });

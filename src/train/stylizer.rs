@@ -7,7 +7,7 @@ use burn::prelude::*;
 
 use super::data::TrainData;
 use super::eval;
-use super::losses::{LossShares, StyleNoise, StylizerInputs, StylizerWeights, stylizer_loss_drawn};
+use super::losses::{LossShares, StatsOffset, StyleNoise, StylizerInputs, StylizerWeights, stylizer_loss_drawn};
 use super::optim::{
     adam, clip_factor, clip_grad_norm, optimizers_from_bytes, optimizers_to_bytes, scale_grads, squared_norm_parts,
     total_norm,
@@ -39,6 +39,9 @@ pub struct StylizerBatch {
     /// The row whose style each row's swap takes (`None`: the partner row; see
     /// [`StylizerWeights::cross_content`](super::losses::StylizerWeights::cross_content)).
     pub style_source: Option<Vec<usize>>,
+    /// Offsets of the content-paired rows' target statistics (`None`: the partners' own;
+    /// [`StylizerWeights::cross_set_relative`]).
+    pub stats_offset: Option<StatsOffset>,
 }
 
 step_report! {
@@ -164,6 +167,12 @@ impl StylizerTrainer {
                 });
             }
         }
+        if let Some(o) = &batch.stats_offset
+            && (o.mean.dims() != [b, DIM] || o.spread.dims() != [b, DIM])
+        {
+            let got = o.mean.dims()[0];
+            return Err(ModelError::BatchSize { what: "statistics offsets ([B, 260] each)", expected: b, got });
+        }
         if batch.motion2.dims() != [b, DIM, t] {
             let got = batch.motion2.dims()[0];
             return Err(ModelError::BatchSize { what: "clip 2 (same shape as clip 1)", expected: b, got });
@@ -192,6 +201,10 @@ impl StylizerTrainer {
             labels,
             content_paired: batch.content_paired.clone(),
             style_source: batch.style_source.clone(),
+            stats_offset: batch.stats_offset.as_ref().map(|o| StatsOffset {
+                mean: o.mean.clone().to_device(&self.device).autodiff(),
+                spread: o.spread.clone().to_device(&self.device).autodiff(),
+            }),
         };
         let eps = StyleNoise::draw(&mut self.noise, b, self.net.style_encoder.style_dim, &self.device);
         // The batch's row groups side by side on the CPU's threads (`super::parallel`), each its
@@ -263,6 +276,22 @@ impl StylizerTrainer {
     }
 }
 
+/// `[B, 260]` mean and spread offsets: `+offset` on each listed row, `−offset` on the row after
+/// it (its partner), zero elsewhere.
+fn stats_offsets(offsets: &[(usize, Vec<f32>, Vec<f32>)], batch: usize, device: &Device) -> StatsOffset {
+    let (mut mean, mut spread) = (vec![0f32; batch * DIM], vec![0f32; batch * DIM]);
+    for (row, m, s) in offsets {
+        for (c, (&m, &s)) in m.iter().zip(s).enumerate() {
+            mean[row * DIM + c] = m;
+            spread[row * DIM + c] = s;
+            mean[(row + 1) * DIM + c] = -m;
+            spread[(row + 1) * DIM + c] = -s;
+        }
+    }
+    let tensor = |v: Vec<f32>| Tensor::from_data(TensorData::new(v, [batch, DIM]), device);
+    StatsOffset { mean: tensor(mean), spread: tensor(spread) }
+}
+
 impl Trainer for StylizerTrainer {
     type Report = StylizerStepReport;
     const SHOWN: &'static [(&'static str, &'static str)] =
@@ -281,6 +310,9 @@ impl Trainer for StylizerTrainer {
         let mut pairs = Vec::with_capacity(data.batch);
         let mut content_paired = Vec::new();
         let mut source: Vec<usize> = super::losses::partner_permutation(data.batch);
+        let relative = paired_rows && self.weights.cross_set_relative;
+        // (row, mean, spread): row's target moves by +offset, its partner row's by −offset.
+        let mut offsets: Vec<(usize, Vec<f32>, Vec<f32>)> = Vec::new();
         while pairs.len() < data.batch {
             let row = pairs.len();
             let first = data.sampler.pair(rng);
@@ -296,6 +328,14 @@ impl Trainer for StylizerTrainer {
                 }
                 _ => None,
             };
+            if let (true, Some(p)) = (relative, &partner) {
+                // Zero within a set (one group, one baseline) and where a set lacks `normal` takes.
+                let base = |clip: usize| data.baseline_of[clip].map(|i| &data.baselines[i]);
+                if let (Some(own), Some(theirs)) = (base(first.0.clip), base(p.0.clip)) {
+                    let (mean, spread) = own.minus(theirs);
+                    offsets.push((row, mean, spread));
+                }
+            }
             pairs.push(first);
             if let Some(p) = partner {
                 content_paired.extend([row, row + 1]);
@@ -315,6 +355,7 @@ impl Trainer for StylizerTrainer {
             labels: self.config.supervised.then(|| pairs.iter().map(|p| p.2).collect()),
             content_paired,
             style_source: cross.then_some(source),
+            stats_offset: relative.then(|| stats_offsets(&offsets, data.batch, &data.device)),
         };
         Ok(self.step(&batch)?)
     }
@@ -346,5 +387,22 @@ impl Trainer for StylizerTrainer {
     fn load_optimizer_state(&mut self, bytes: &[u8]) -> Result<(), ModelError> {
         [self.optim] = optimizers_from_bytes(bytes)?;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stats_offsets_move_a_pair_in_opposite_directions_and_leave_other_rows_alone() {
+        let (m, s) = (vec![0.5; DIM], vec![-0.25; DIM]);
+        let o = stats_offsets(&[(2, m, s)], 6, &Device::flex());
+        let rows = |t: Tensor<2>| -> Vec<f32> {
+            let v = t.into_data().try_to_vec::<f32>().expect("f32");
+            (0..6).map(|r| v[r * DIM + DIM - 1]).collect()
+        };
+        assert_eq!(rows(o.mean), vec![0.0, 0.0, 0.5, -0.5, 0.0, 0.0]);
+        assert_eq!(rows(o.spread), vec![0.0, 0.0, -0.25, 0.25, 0.0, 0.0]);
     }
 }
