@@ -392,6 +392,78 @@ fn label_codes_centre_the_label_based_draws() {
     assert!(matches!(&err, StylizeError::BadWeights(msg) if msg.contains("out of range")), "{err:?}");
 }
 
+/// The unsupervised model's neutral code: guidance measures a reference against it (a zero code
+/// is the prior's mean, as without one), prior draws keep the prior's mean, and a mix of a
+/// reference and a draw takes its share of it; a code of the wrong size or not finite is refused.
+#[test]
+fn the_unsupervised_neutral_code_anchors_references_only() {
+    use motion_stylizer::stylize::NeutralCode;
+    let f = files();
+    let dim = config(false).style_dim;
+    let with_code = |code: Vec<f32>| {
+        let mut m = manifest();
+        m.models[1].neutral_code = Some(NeutralCode { command: "test".into(), takes: 1, code });
+        Weights::from_bytes(&serde_json::to_vec(&m).unwrap(), &f.norm, None, Some(&f.unsupervised))
+    };
+    let plain = Weights::from_bytes(&f.manifest, &f.norm, None, Some(&f.unsupervised)).unwrap();
+    assert_eq!(plain.neutral_code(), None);
+    let zero = with_code(vec![0.0; dim]).unwrap();
+    let anchored = with_code(vec![0.5; dim]).unwrap();
+    assert_eq!(anchored.neutral_code(), Some(&vec![0.5; dim][..]));
+
+    let content = import("bandai", SHORT).motion;
+    let reference = import("bandai", WALK).motion;
+    let run = |w: &Weights, source: StyleSource<'_>| {
+        let request = Request::new(source).with_setting(Setting::Unsupervised).with_seed(5);
+        stylize::stylize(w, &content, &request).unwrap()
+    };
+    let by_reference = |w: &Weights| run(w, StyleSource::motion(&reference));
+    assert_eq!(by_reference(&zero), by_reference(&plain), "a zero code is the prior's mean");
+    assert_ne!(by_reference(&anchored), by_reference(&plain), "a reference is measured against the code");
+    assert_eq!(run(&anchored, StyleSource::Prior), run(&plain, StyleSource::Prior), "prior draws keep 0");
+    let mix = |w: &Weights, t: f32| run(w, StyleSource::mix(StyleSource::motion(&reference), StyleSource::Prior, t));
+    assert_eq!(mix(&anchored, 1.0), mix(&plain, 1.0), "all prior: no anchor");
+    assert_ne!(mix(&anchored, 0.5), mix(&plain, 0.5), "half a reference: half the anchor");
+    // Without guidance the code changes nothing.
+    let unguided = |w: &Weights| {
+        let request = Request::new(StyleSource::motion(&reference))
+            .with_setting(Setting::Unsupervised)
+            .with_seed(5)
+            .with_guidance(0.0);
+        stylize::stylize(w, &content, &request).unwrap()
+    };
+    assert_eq!(unguided(&anchored), unguided(&plain));
+
+    let refused = |r: Result<Weights, StylizeError>| match r {
+        Err(StylizeError::BadWeights(msg)) => assert!(msg.contains("neutral code"), "{msg}"),
+        other => panic!("expected BadWeights, got {other:?}"),
+    };
+    refused(with_code(vec![0.0; dim + 1]));
+    refused(with_code(vec![]));
+}
+
+/// `label-codes`' neutral code: the `normal` motions' mean posterior, each group (data set)
+/// weighted equally; other labels left out; none without `normal` motions.
+#[test]
+fn the_neutral_code_weighs_each_group_equally() {
+    use motion_stylizer::train::label_codes::{LabelledMotion, neutral_code_of};
+    let w = weights();
+    let (walk, short, tired) =
+        (import("bandai", WALK).motion, import("bandai", SHORT).motion, import("bandai", BANDAI[0]).motion);
+    let (normal, old) = (label(&w, "normal"), label(&w, "old"));
+    let item = |group, style, motion| LabelledMotion { name: "test".into(), group, style, motion };
+    let items = [item(1, normal, &walk), item(1, normal, &short), item(2, normal, &tired), item(2, old, &short)];
+    let code = neutral_code_of(&w, &items, "test".into()).unwrap().expect("a neutral code");
+    assert_eq!(code.takes, 3);
+    let of = |m: &Motion| style_code_of(&w, Setting::Unsupervised, m, None).unwrap();
+    let (a, b, c) = (of(&walk), of(&short), of(&tired));
+    for i in 0..a.len() {
+        let expected = ((a[i] + b[i]) / 2.0 + c[i]) / 2.0;
+        assert!((code.code[i] - expected).abs() < 1e-4, "{i}: {} against {expected}", code.code[i]);
+    }
+    assert!(neutral_code_of(&w, &items[3..], "test".into()).unwrap().is_none(), "no `normal` motion");
+}
+
 /// Strength: 0 gives back the content (bit for bit) without running the style source, 1 is the
 /// default output, others change it; outside [0, 2] or not finite is refused.
 #[test]

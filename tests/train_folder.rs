@@ -142,6 +142,9 @@ fn train_all_on_a_labelled_folder_of_two_rigs_exports_weights_that_stylize_with_
     assert_eq!(codes.takes, [4, 4]);
     assert!(codes.codes.iter().all(|c| c.iter().all(|v| v.is_finite())));
     assert_eq!(sup.stages.len(), 2);
+    // No `normal` label in the folder: no neutral code (guidance measures against 0).
+    let unsup = manifest.models.iter().find(|m| m.setting == "unsupervised").unwrap();
+    assert!(unsup.neutral_code.is_none());
 
     // `styles --weights` lists the folder's labels, one per line.
     let styles = ok(cli(&["styles", "--weights", p(&weights)]));
@@ -327,6 +330,9 @@ fn a_stylizer_fine_tuned_with_the_style_statistics_loss_replaces_the_weights_sty
     assert_eq!(sup.setting, "supervised");
     assert_eq!(sup.stages.len(), old_sup.stages.len() + 1, "the fine-tune is one more stage");
     assert!(sup.label_codes.is_none(), "new networks need new label codes");
+    let (unsup, old_unsup) = (&manifest.models[1], &old.models[1]);
+    assert!(old_unsup.neutral_code.is_some(), "the shipped unsupervised model has its neutral code");
+    assert_eq!(unsup.neutral_code, old_unsup.neutral_code, "the unchanged unsupervised model keeps its code");
     // No encoding flags: the folder's own encodings are kept (the shipped weights are 8-bit).
     assert_eq!(sup.encoding, old_sup.encoding, "the fine-tuned stylizer is written in the folder's encoding");
     assert_eq!(manifest.shared.as_ref().map(|s| &s.encoding), old.shared.as_ref().map(|s| &s.encoding));

@@ -46,10 +46,12 @@ pub fn run(args: &LabelCodesArgs) -> anyhow::Result<()> {
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let command = std::env::args().collect::<Vec<_>>().join(" ");
-    let codes = motion_stylizer::train::label_codes::label_codes(&weights, &takes, command, |done, _| {
+    let codes = motion_stylizer::train::label_codes::label_codes(&weights, &takes, command.clone(), |done, _| {
         bar.set_position(done as u64)
     })?;
     bar.finish_and_clear();
+    let items = motion_stylizer::train::label_codes::bandai_items(&takes);
+    let neutral = motion_stylizer::train::label_codes::neutral_code_of(&weights, &items, command)?;
 
     let path = dir.join("manifest.json");
     let mut manifest: Manifest = serde_json::from_str(&super::read_text(&path)?)
@@ -61,6 +63,12 @@ pub fn run(args: &LabelCodesArgs) -> anyhow::Result<()> {
         .context("the manifest lists no supervised model")?;
     eprintln!("{} training takes encoded; per label: {:?}", takes.len(), codes.takes);
     entry.label_codes = Some(codes);
+    if let Some(neutral) = neutral {
+        eprintln!("unsupervised model's neutral code: {} `normal` training takes encoded", neutral.takes);
+        if let Some(entry) = manifest.models.iter_mut().find(|m| m.setting == "unsupervised") {
+            entry.neutral_code = Some(neutral);
+        }
+    }
     super::write_text(&path, &manifest.to_json()?)?;
     eprintln!("label codes -> {}", path.display());
     Ok(())

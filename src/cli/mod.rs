@@ -91,7 +91,9 @@ enum Command {
     #[cfg(feature = "model")]
     Export(export::ExportArgs),
     /// Compute the supervised model's label codes (where each label's training takes sit in its
-    /// style space; label-based styles are drawn around them) into the weights' manifest.
+    /// style space; label-based styles are drawn around them) and the unsupervised model's neutral
+    /// code (where its `normal` takes sit; guidance measures a reference against it) into the
+    /// weights' manifest.
     #[cfg(feature = "model")]
     LabelCodes(label_codes::LabelCodesArgs),
     /// Evaluate the shipped weights: style accuracy, style FID, geodesic distance, diversity and

@@ -157,6 +157,23 @@ pub struct ModelEntry {
     /// label-based codes are drawn around 0, the prior's mean.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub label_codes: Option<LabelCodes>,
+    /// Unsupervised model: where the `normal` training takes sit in its style space, what
+    /// guidance measures a reference's style against (written by `motion-stylizer
+    /// label-codes`). Absent: the prior's mean, 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub neutral_code: Option<NeutralCode>,
+}
+
+/// The mean of the unsupervised style encoder's posterior means over the `normal` training takes
+/// (each data set weighted equally: set 1 has 19, set 2 ~400).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct NeutralCode {
+    /// The exact command that wrote it.
+    pub command: String,
+    /// Training takes encoded.
+    pub takes: usize,
+    /// `[style_dim]`.
+    pub code: Vec<f32>,
 }
 
 /// Per label, the mean of the style encoder's posterior means over the label's training takes

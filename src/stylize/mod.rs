@@ -71,7 +71,7 @@ pub mod source;
 pub mod weights;
 
 pub use error::StylizeError;
-pub use manifest::{LabelCodes, Manifest, ModelEntry, StageRecord};
+pub use manifest::{LabelCodes, Manifest, ModelEntry, NeutralCode, StageRecord};
 pub use parts::{BodyPart, PartRequests, stylize_parts, stylize_parts_async};
 pub use pipeline::{
     MAX_FRAMES, infer_label, infer_label_async, pad_features, padded_frames, style_code_of, style_code_of_async,

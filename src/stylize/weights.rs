@@ -86,6 +86,9 @@ pub struct Weights {
     /// The supervised model's label centres ([`manifest::LabelCodes`]), `num_styles × style_dim`
     /// row-major, checked against the model.
     label_codes: Option<Vec<f32>>,
+    /// The unsupervised model's neutral code ([`manifest::NeutralCode`]), `style_dim` numbers,
+    /// checked against the model.
+    neutral_code: Option<Vec<f32>>,
     /// Whether [`Weights::prepare_for_inference`] was called: models added later get it too.
     inference_only: bool,
 }
@@ -167,6 +170,7 @@ impl Weights {
             supervised: None,
             unsupervised: None,
             label_codes: None,
+            neutral_code: None,
             inference_only: false,
         };
         for (setting, bytes, style) in [
@@ -239,6 +243,11 @@ impl Weights {
         if setting == Setting::Supervised {
             self.label_codes = match label_codes_of(&self.manifest) {
                 Some(codes) => Some(check_label_codes(codes, &model)?),
+                None => None,
+            };
+        } else {
+            self.neutral_code = match neutral_code_of(&self.manifest) {
+                Some(code) => Some(check_neutral_code(code, &model)?),
                 None => None,
             };
         }
@@ -411,6 +420,13 @@ impl Weights {
         codes.get(style.index() * dim..(style.index() + 1) * dim)
     }
 
+    /// Where the `normal` training takes sit in the unsupervised model's style space (what
+    /// guidance measures a reference's style against), if the manifest has it.
+    pub fn neutral_code(&self) -> Option<&[f32]> {
+        self.unsupervised.as_ref()?;
+        self.neutral_code.as_deref()
+    }
+
     /// The inference model of `setting`.
     pub fn model(&self, setting: Setting) -> Result<&Model, StylizeError> {
         match setting {
@@ -428,6 +444,30 @@ fn label_codes_of(manifest: &Manifest) -> Option<&manifest::LabelCodes> {
         .iter()
         .find(|m| Setting::from_name(&m.setting) == Some(Setting::Supervised))
         .and_then(|m| m.label_codes.as_ref())
+}
+
+/// The unsupervised entry's neutral code, if the manifest has it.
+fn neutral_code_of(manifest: &Manifest) -> Option<&manifest::NeutralCode> {
+    manifest
+        .models
+        .iter()
+        .find(|m| Setting::from_name(&m.setting) == Some(Setting::Unsupervised))
+        .and_then(|m| m.neutral_code.as_ref())
+}
+
+/// The neutral code after checking it against the model: `style_dim` finite numbers.
+fn check_neutral_code(code: &manifest::NeutralCode, model: &Model) -> Result<Vec<f32>, StylizeError> {
+    let dim = model.config.style_dim;
+    if code.code.len() != dim {
+        return Err(bad(format!(
+            "the neutral code has {} numbers, not {dim} (the unsupervised model's style size)",
+            code.code.len()
+        )));
+    }
+    if code.code.iter().any(|v| !v.is_finite()) {
+        return Err(bad("the neutral code holds a number that is not finite"));
+    }
+    Ok(code.code.clone())
 }
 
 /// The label codes flattened, after checking them against the model: one finite row of

@@ -388,6 +388,11 @@ fn write_label_codes(
         .find(|m| m.setting == "supervised")
         .context("the exported manifest lists no supervised model")?;
     entry.label_codes = Some(codes);
+    // The unsupervised model's neutral code, where its network is new (an export clears it with
+    // the network it belongs to; kept where the network is the `--from` weights').
+    if let Some(entry) = manifest.models.iter_mut().find(|m| m.setting == "unsupervised" && m.neutral_code.is_none()) {
+        entry.neutral_code = super::label_codes::neutral_code_of(&weights, &items, opts.command.clone())?;
+    }
     rundir::write_atomic(&path, manifest.to_json()?.as_bytes())
 }
 

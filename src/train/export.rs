@@ -216,6 +216,7 @@ pub fn export_runs(
             stages: vec![stage_record(ae, &ae_config, ae_ckpt.meta.step)?, stage_record(dir, &config, ckpt.meta.step)?],
             // New networks: `motion-stylizer label-codes` computes them for these.
             label_codes: None,
+            neutral_code: None,
         });
     }
 
@@ -349,6 +350,7 @@ pub fn replace_stylizers(
         let stylizer = load_module(Stylizer::new(&config.model, &device), &ckpt.weights)?;
         entry.stages.push(stage_record(dir, &config, ckpt.meta.step)?);
         entry.label_codes = None;
+        entry.neutral_code = None;
         let new = MotionModel { stylizer, ..old.clone() };
         // The run's architecture options (the posture path) go with its networks.
         let model_config = model_config.clone().with_content_posture(config.model.content_posture);

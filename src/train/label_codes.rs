@@ -13,7 +13,8 @@ use anyhow::{Context, ensure};
 
 use crate::Motion;
 use crate::dataset::{STYLES, Style, TakeId};
-use crate::stylize::{LabelCodes, Setting, Weights, style_code_of};
+use crate::stylize::pipeline::NEUTRAL_LABEL;
+use crate::stylize::{LabelCodes, NeutralCode, Setting, Weights, style_code_of};
 
 /// One training motion for [`label_codes_of`]: its label and the group it is weighed in (the
 /// Bandai data sets; a folder of one's own files is one group).
@@ -35,7 +36,16 @@ pub fn label_codes(
     let model = weights.model(Setting::Supervised)?;
     let labels = model.config.num_styles;
     ensure!(labels == STYLES.len(), "the supervised model knows {labels} labels, the data {}", STYLES.len());
-    let items: Vec<LabelledMotion> = takes
+    let items = bandai_items(takes);
+    for label in 0..labels {
+        ensure!(items.iter().any(|m| m.style.index() == label), "no training take of the label {}", STYLES[label]);
+    }
+    label_codes_of(weights, &items, command, progress)
+}
+
+/// Bandai-Namco takes as [`LabelledMotion`]s, grouped by data set.
+pub fn bandai_items<'a>(takes: &[(TakeId, &'a Motion)]) -> Vec<LabelledMotion<'a>> {
+    takes
         .iter()
         .map(|(take, motion)| LabelledMotion {
             name: take.stem(),
@@ -43,11 +53,7 @@ pub fn label_codes(
             style: take.style(),
             motion,
         })
-        .collect();
-    for label in 0..labels {
-        ensure!(items.iter().any(|m| m.style.index() == label), "no training take of the label {}", STYLES[label]);
-    }
-    label_codes_of(weights, &items, command, progress)
+        .collect()
 }
 
 /// The label codes of `weights`' supervised model from labelled training motions: per label, the
@@ -95,6 +101,47 @@ pub fn label_codes_of(
         takes_per_label.push(present.iter().map(|&s| counts[s * labels + label]).sum());
     }
     Ok(LabelCodes { command, takes: takes_per_label, codes })
+}
+
+/// The unsupervised model's neutral code from labelled training motions: per group (data set),
+/// the mean posterior mean of its `normal` motions, averaged over the groups that have some
+/// (set 1 has 19 `normal` takes, set 2 ~400). `None` when the weights have no unsupervised model
+/// or no `normal` label, or no motion is labelled so.
+pub fn neutral_code_of(
+    weights: &Weights,
+    items: &[LabelledMotion<'_>],
+    command: String,
+) -> anyhow::Result<Option<NeutralCode>> {
+    let (Ok(model), Ok(normal)) = (weights.model(Setting::Unsupervised), weights.style(NEUTRAL_LABEL)) else {
+        return Ok(None);
+    };
+    let dim = model.config.style_dim;
+    let mut by_group: std::collections::BTreeMap<usize, (Vec<f64>, usize)> = Default::default();
+    for item in items.iter().filter(|m| m.style == normal) {
+        let code = style_code_of(weights, Setting::Unsupervised, item.motion, None)
+            .with_context(|| format!("encoding {}", item.name))?;
+        let (sum, count) = by_group.entry(item.group).or_insert_with(|| (vec![0.0; dim], 0));
+        for (s, c) in sum.iter_mut().zip(&code) {
+            *s += f64::from(*c);
+        }
+        *count += 1;
+    }
+    if by_group.is_empty() {
+        return Ok(None);
+    }
+    let groups = by_group.len() as f64;
+    let mut centre = vec![0.0f64; dim];
+    for (sum, count) in by_group.values() {
+        for (c, s) in centre.iter_mut().zip(sum) {
+            *c += s / *count as f64 / groups;
+        }
+    }
+    Ok(Some(NeutralCode {
+        command,
+        takes: by_group.values().map(|(_, n)| n).sum(),
+        // Four decimals, as the label codes.
+        code: centre.iter().map(|&v| ((v * 1e4).round() / 1e4) as f32).collect(),
+    }))
 }
 
 /// Fine-tuning's label codes: `codes` (computed from the new data's takes) merged with `old`

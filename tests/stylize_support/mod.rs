@@ -92,6 +92,7 @@ pub fn manifest() -> Manifest {
         width: WIDTH,
         stages: vec![stage("ae"), stage("stylizer")],
         label_codes: None,
+        neutral_code: None,
     };
     Manifest {
         // Format 1 (one whole f16 bundle per setting): tests/weights_parts.rs writes format 2 from it.
