@@ -96,9 +96,9 @@ pub struct Request<'a> {
     /// `G_s = G(c, s)` is pushed further along what makes the style differ from the neutral style
     /// (`normal` in the supervised model; in the unsupervised one the `normal` takes' code for a
     /// reference, [`Weights::neutral_code`](super::Weights::neutral_code), and the prior's mean
-    /// for prior draws) on the same content, `G_n`, and back towards the content's own latent `z_c` by half of what the
-    /// neutral style loses of it: `G_s + g·((G_s − G_n) + ½(z_c − G_n))`. 0 is the networks'
-    /// output as trained (one generator pass less). Unlike strength, which scales every change
+    /// for prior draws) on the same content, `G_n`, and back towards the content's own latent
+    /// `z_c` by half of what the neutral style loses of it: `G_s + g·((G_s − G_n) + ½(z_c −
+    /// G_n))`. 0 is the networks' output as trained (one generator pass less). Unlike strength, which scales every change
     /// from the content (the generator's drift under any style included), guidance amplifies the
     /// style's own difference. [`Request::strength`] applies after it. Not applied to `normal`
     /// itself, label-based or a reference labelled (or inferred) `normal` (it has no difference
