@@ -250,8 +250,10 @@ impl TrainData {
         let groups = content_groups(&train, false);
         let groups_across_sets = content_groups(&train, true);
         let content_of = content_ids(&train);
-        // Only a supervised stylizer's labels are styles (`normal` among them).
-        let normal = (needs_labels && !contents && config.stage == "stylizer")
+        // Only for a run that judges cross-set pairs relative to `normal`; a supervised
+        // stylizer's labels are styles (`normal` among them).
+        let relative = config.train.stylizer_weights.is_some_and(|w| w.cross_set_relative);
+        let normal = (relative && needs_labels && !contents && config.stage == "stylizer")
             .then(|| corpus.labels.iter().position(|l| l == "normal"))
             .flatten();
         let (baseline_of, baselines) = normal_baselines(&clips, &labels, &groups, normal, window);
