@@ -197,12 +197,7 @@ impl Weights {
     /// the shared networks already loaded; format 1 files are whole bundles. Errors as
     /// [`Weights::from_files`]; on an error nothing changes.
     pub fn add_setting(&mut self, setting: Setting, bytes: &[u8]) -> Result<(), StylizeError> {
-        let entry = self
-            .manifest
-            .models
-            .iter()
-            .find(|m| Setting::from_name(&m.setting) == Some(setting))
-            .ok_or(StylizeError::SettingUnavailable { setting })?;
+        let entry = entry_of(&self.manifest, setting).ok_or(StylizeError::SettingUnavailable { setting })?;
         let context = |e: StylizeError| match e {
             StylizeError::BadWeights(m) => bad(format!("{setting} file {}: {m}", entry.file)),
             other => other,
@@ -281,12 +276,7 @@ impl Weights {
     /// [`StylizeError::BadWeights`] (a file that is not this model's style encoder); on an error
     /// nothing changes.
     pub fn add_style_encoder(&mut self, setting: Setting, bytes: &[u8]) -> Result<(), StylizeError> {
-        let entry = self
-            .manifest
-            .models
-            .iter()
-            .find(|m| Setting::from_name(&m.setting) == Some(setting))
-            .ok_or(StylizeError::SettingUnavailable { setting })?;
+        let entry = entry_of(&self.manifest, setting).ok_or(StylizeError::SettingUnavailable { setting })?;
         let model = match setting {
             Setting::Supervised => self.supervised.as_mut(),
             Setting::Unsupervised => self.unsupervised.as_mut(),
@@ -437,22 +427,19 @@ impl Weights {
     }
 }
 
+/// The manifest's entry of `setting`, if it lists one.
+fn entry_of(manifest: &Manifest, setting: Setting) -> Option<&manifest::ModelEntry> {
+    manifest.models.iter().find(|m| Setting::from_name(&m.setting) == Some(setting))
+}
+
 /// The supervised entry's label codes, if the manifest has them.
 fn label_codes_of(manifest: &Manifest) -> Option<&manifest::LabelCodes> {
-    manifest
-        .models
-        .iter()
-        .find(|m| Setting::from_name(&m.setting) == Some(Setting::Supervised))
-        .and_then(|m| m.label_codes.as_ref())
+    entry_of(manifest, Setting::Supervised)?.label_codes.as_ref()
 }
 
 /// The unsupervised entry's neutral code, if the manifest has it.
 fn neutral_code_of(manifest: &Manifest) -> Option<&manifest::NeutralCode> {
-    manifest
-        .models
-        .iter()
-        .find(|m| Setting::from_name(&m.setting) == Some(Setting::Unsupervised))
-        .and_then(|m| m.neutral_code.as_ref())
+    entry_of(manifest, Setting::Unsupervised)?.neutral_code.as_ref()
 }
 
 /// The neutral code after checking it against the model: `style_dim` finite numbers.
