@@ -62,6 +62,7 @@ pub mod rundir;
 pub mod runner;
 pub mod sampler;
 pub mod settings;
+pub mod statistics;
 pub mod stylizer;
 pub mod trainer;
 
