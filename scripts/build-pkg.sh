@@ -25,14 +25,15 @@ wasm-bindgen --target web --experimental-reset-state-function --out-dir "$out" -
 # The WebGPU engine (issue 16): the same crate with Burn's wgpu runtime (feature `wgpu` on
 # wasm32: WebGPU through navigator.gpu), a second wasm file the JS imports only for
 # `backend: 'webgpu'`. Its own target folder: the two feature sets' Burn builds stay side by side.
-# WEBGPU=0 leaves it out (the package then falls back to the CPU, saying so). Without its name
-# section (6.6 of 35 MB: wgpu, naga and CubeCL's kernels); 28.6 MB, 4.5 MB gzipped (bench/README.md).
+# WEBGPU=0 leaves it out (the package then falls back to the CPU, saying so). Built for size
+# (Cargo.toml's `wasm-size` profile: its arithmetic runs on the GPU) and without its name section:
+# 12.8 MB, 2.6 MB gzipped, against 28.6 and 4.5 as a release build (bench/README.md).
 if [[ "${WEBGPU:-1}" != 0 ]]; then
   gpu_target=${WEBGPU_TARGET_DIR:-$target_dir/webgpu}
-  cargo build --release --lib --target wasm32-unknown-unknown --no-default-features --features "$features,wgpu" \
+  cargo build --profile wasm-size --lib --target wasm32-unknown-unknown --no-default-features --features "$features,wgpu" \
     --target-dir "$gpu_target"
   wasm-bindgen --target web --experimental-reset-state-function --remove-name-section --out-dir "$out" --out-name engine-webgpu \
-    "$gpu_target/wasm32-unknown-unknown/release/motion_stylizer.wasm"
+    "$gpu_target/wasm32-unknown-unknown/wasm-size/motion_stylizer.wasm"
 fi
 rm -f "$out/.gitignore"
 cp js/index.js js/index.d.ts js/README.md "$out/"
