@@ -90,14 +90,7 @@ mod bench {
         })?;
         let mut st = StylizerTrainer::new(config, TrainConfig::default(), ae.autoencoder.clone(), device, 2);
         drop(ae);
-        let batch = StylizerBatch {
-            motion1,
-            motion2,
-            labels: Some(labels),
-            content_paired: Vec::new(),
-            style_source: None,
-            stats_offset: None,
-        };
+        let batch = StylizerBatch::unpaired(motion1, motion2, Some(labels));
         let st_s = time_steps(steps, || {
             st.step(&batch)?;
             Ok(())

@@ -85,14 +85,7 @@ mod bench {
         let motion1 = features();
         let motion2 = features();
         let labels: Vec<usize> = (0..B).map(|i| (5 * i + 3) % config.num_styles).collect();
-        let batch = StylizerBatch {
-            motion1,
-            motion2,
-            labels: Some(labels),
-            content_paired: Vec::new(),
-            style_source: None,
-            stats_offset: None,
-        };
+        let batch = StylizerBatch::unpaired(motion1, motion2, Some(labels));
         Setup { config, ae, stylizer, batch }
     }
 

@@ -87,14 +87,7 @@ mod bench {
                 let frozen = MotionAutoencoder::new(&cfg, &device);
                 let mut st = StylizerTrainer::new(cfg.clone(), TrainConfig::default(), frozen, &device, 2);
                 let params = params + st.net.num_params() as f64 / 1e6;
-                let batch = StylizerBatch {
-                    motion1: x1.clone(),
-                    motion2: x2.clone(),
-                    labels: Some(labels),
-                    content_paired: Vec::new(),
-                    style_source: None,
-                    stats_offset: None,
-                };
+                let batch = StylizerBatch::unpaired(x1.clone(), x2.clone(), Some(labels));
                 let st_s = time_steps(steps, || {
                     st.phases = Some(PhaseTimes::default());
                     st.step(&batch).unwrap();

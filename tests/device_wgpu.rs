@@ -135,14 +135,7 @@ fn training_steps_on_wgpu_match_the_cpu() {
     }
 
     let mut rng = NoiseRng::new(5);
-    let batch = StylizerBatch {
-        motion1: features(&mut rng, 2),
-        motion2: features(&mut rng, 2),
-        labels: Some(vec![0, 2]),
-        content_paired: Vec::new(),
-        style_source: None,
-        stats_offset: None,
-    };
+    let batch = StylizerBatch::unpaired(features(&mut rng, 2), features(&mut rng, 2), Some(vec![0, 2]));
     let stylizer_losses = |device: &Device| {
         let ae = seeded_xavier(MotionAutoencoder::new(&cfg(), device), 3);
         let mut trainer = StylizerTrainer::new(cfg(), TrainConfig::default(), ae, device, 4);

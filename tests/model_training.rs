@@ -74,14 +74,8 @@ fn stylizer_overfits_one_batch() {
         let ae = seeded_xavier(MotionAutoencoder::new(&cfg(supervised), &dev), 3);
         let mut trainer = StylizerTrainer::new(cfg(supervised), fast_train(), ae, &dev, 4);
         let mut rng = NoiseRng::new(5);
-        let batch = StylizerBatch {
-            motion1: features(&mut rng, 2, T),
-            motion2: features(&mut rng, 2, T),
-            labels: supervised.then(|| vec![0, 2]),
-            content_paired: Vec::new(),
-            style_source: None,
-            stats_offset: None,
-        };
+        let batch =
+            StylizerBatch::unpaired(features(&mut rng, 2, T), features(&mut rng, 2, T), supervised.then(|| vec![0, 2]));
         let first = trainer.step(&batch).unwrap();
         let mut last = first.clone();
         for _ in 0..14 {
@@ -103,23 +97,9 @@ fn training_inputs_are_checked() {
     let mut trainer = StylizerTrainer::new(cfg(true), TrainConfig::default(), ae, &dev, 1);
     let mut rng = NoiseRng::new(1);
     let ok = features(&mut rng, 2, T);
-    let no_labels = StylizerBatch {
-        motion1: ok.clone(),
-        motion2: ok.clone(),
-        labels: None,
-        content_paired: Vec::new(),
-        style_source: None,
-        stats_offset: None,
-    };
+    let no_labels = StylizerBatch::unpaired(ok.clone(), ok.clone(), None);
     assert!(matches!(trainer.step(&no_labels), Err(ModelError::Label(_))));
-    let bad_len = StylizerBatch {
-        motion1: features(&mut rng, 2, 20),
-        motion2: ok.clone(),
-        labels: Some(vec![0, 1]),
-        content_paired: Vec::new(),
-        style_source: None,
-        stats_offset: None,
-    };
+    let bad_len = StylizerBatch::unpaired(features(&mut rng, 2, 20), ok.clone(), Some(vec![0, 1]));
     assert!(matches!(trainer.step(&bad_len), Err(ModelError::FrameCount { frames: 20, .. })));
     let mut ae_trainer = AeTrainer::new(cfg(true), TrainConfig::default(), &dev, 1);
     assert!(matches!(ae_trainer.step(features(&mut rng, 1, 12)), Err(ModelError::FrameCount { .. })));

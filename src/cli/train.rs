@@ -28,44 +28,8 @@ enum StageArgs {
         /// Train without style labels (default: supervised, with the unified labels).
         #[arg(long)]
         unsupervised: bool,
-        /// Weight of the style-statistics loss (not in the paper; new runs): every other pair of
-        /// batch rows is two takes of one content in different styles, and the swap of one's
-        /// content with the other's style is pulled to the other's per-feature mean and spread
-        /// over time. 0: the paper's losses only.
-        #[arg(long, default_value_t = 0.0, value_name = "WEIGHT")]
-        style_stats: f32,
-        /// Weight of the content-shape loss (not in the paper; new runs): every swap's decoded
-        /// features, each standardised over the window (its mean and spread removed), are pulled
-        /// to its content clip's, so a style changes the statistics and keeps the content's
-        /// curves. 0: not used.
-        #[arg(long, default_value_t = 0.0, value_name = "WEIGHT")]
-        content_shape: f32,
-        /// Weight of the homo-style alignment term (the KL between the style posteriors of two
-        /// windows of one take; new runs) instead of the paper's (supervised 1, unsupervised 0.1).
-        #[arg(long, value_name = "WEIGHT")]
-        hsa: Option<f32>,
-        /// Cross-content swaps (not in the paper; new runs, with --style-stats): a content-paired
-        /// row's swap takes its style from a take of its partner's style and another content, and
-        /// is judged by the partner's statistics, so the content's posture must come through.
-        #[arg(long)]
-        cross_content: bool,
-        /// Content pairs across the data sets (not in the paper; new runs, with --style-stats): a
-        /// content-paired row's partner may be the same content in a style of the other Bandai
-        /// set (they share `walk` and `run`), so set 1's styles get a target on set 2's contents.
-        /// Measured to cost set 1's targets their content (EVALUATION.md, "Content pairs across
-        /// the sets"): kept for the record, not in the shipped recipe.
-        #[arg(long)]
-        cross_set: bool,
-        /// With --cross-set: a pair across the sets is judged by its partner's statistics moved by
-        /// the difference between the two sets' `normal` takes of the content, so it carries the
-        /// partner's style (its difference from its own set's `normal`), not its set's capture.
-        #[arg(long, requires = "cross_set")]
-        cross_set_relative: bool,
-        /// The content's posture past AdaIN (not in the paper; new runs): the generator adds a
-        /// linear map of the content latent's mean over time to its output. From weights without
-        /// it (--from), the map starts at zero.
-        #[arg(long)]
-        content_posture: bool,
+        #[command(flatten)]
+        extra: train::losses::StylizerExtras,
     },
     /// The evaluation's style classifier, on the training takes only (`eval` uses it).
     Classifier(TrainOptions),
@@ -158,38 +122,8 @@ pub fn run(args: TrainArgs) -> anyhow::Result<()> {
         StageArgs::Ae(options) => (options, Stage::Ae),
         StageArgs::Classifier(options) => (options, Stage::Classifier),
         StageArgs::ContentClassifier(options) => (options, Stage::ContentClassifier),
-        StageArgs::Stylizer {
-            options,
-            ae,
-            unsupervised,
-            style_stats,
-            content_shape,
-            hsa,
-            cross_content,
-            cross_set,
-            cross_set_relative,
-            content_posture,
-        } => {
-            for (flag, w) in
-                [("--style-stats", style_stats), ("--content-shape", content_shape), ("--hsa", hsa.unwrap_or(0.0))]
-            {
-                anyhow::ensure!(w.is_finite() && w >= 0.0, "{flag} {w}: the weight must be 0 or more");
-            }
-            for (flag, on, what) in [("--cross-content", cross_content, "swaps"), ("--cross-set", cross_set, "pairs")] {
-                anyhow::ensure!(
-                    !on || style_stats > 0.0,
-                    "{flag} needs --style-stats above 0 (its {what} are judged by the style statistics)"
-                );
-            }
-            let extra = train::losses::StylizerExtras {
-                style_stats,
-                content_shape,
-                hsa,
-                cross_content,
-                cross_set,
-                cross_set_relative,
-                content_posture,
-            };
+        StageArgs::Stylizer { options, ae, unsupervised, extra } => {
+            extra.validate().map_err(anyhow::Error::msg)?;
             (options, Stage::Stylizer { ae, supervised: !unsupervised, extra })
         }
     };

@@ -44,6 +44,14 @@ pub struct StylizerBatch {
     pub stats_offset: Option<StatsOffset>,
 }
 
+impl StylizerBatch {
+    /// The paper's batch: two clips of one sequence per row and their labels (`None`:
+    /// unsupervised), no content-paired rows (so none of the pair losses' extras).
+    pub fn unpaired(motion1: Tensor<3>, motion2: Tensor<3>, labels: Option<Vec<usize>>) -> Self {
+        StylizerBatch { motion1, motion2, labels, content_paired: Vec::new(), style_source: None, stats_offset: None }
+    }
+}
+
 step_report! {
     /// Losses of one stylizer step (before the update), unweighted terms as in
     /// [`StylizerLosses`](super::losses::StylizerLosses).
