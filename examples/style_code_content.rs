@@ -126,9 +126,12 @@ fn main() -> anyhow::Result<()> {
             per[r.1].0 += usize::from(hit);
             per[r.1].1 += 1;
         }
-        let mean_per: f64 =
-            per.iter().filter(|p| p.1 > 0).map(|p| p.0 as f64 / p.1 as f64).sum::<f64>() / per.iter().filter(|p| p.1 > 0).count() as f64;
-        println!("style by nearest centroid, {name}: {ok}/{n} = {:.3} (mean per style {mean_per:.3})", ok as f64 / n as f64);
+        let mean_per: f64 = per.iter().filter(|p| p.1 > 0).map(|p| p.0 as f64 / p.1 as f64).sum::<f64>()
+            / per.iter().filter(|p| p.1 > 0).count() as f64;
+        println!(
+            "style by nearest centroid, {name}: {ok}/{n} = {:.3} (mean per style {mean_per:.3})",
+            ok as f64 / n as f64
+        );
     }
     // Each style's direction in code space, paired by content: per (set, content) with takes of
     // the style and of `normal`, the mean code of the style's takes minus the `normal` takes';

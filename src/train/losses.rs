@@ -238,16 +238,22 @@ impl StylizerExtras {
     /// Every weight finite and at least 0; the cross-content swaps and cross-set pairs only with
     /// the style statistics that judge them.
     pub fn validate(&self) -> Result<(), String> {
-        for (flag, w) in
-            [("--style-stats", self.style_stats), ("--content-shape", self.content_shape), ("--hsa", self.hsa.unwrap_or(0.0))]
-        {
+        for (flag, w) in [
+            ("--style-stats", self.style_stats),
+            ("--content-shape", self.content_shape),
+            ("--hsa", self.hsa.unwrap_or(0.0)),
+        ] {
             if !(w.is_finite() && w >= 0.0) {
                 return Err(format!("{flag} {w}: the weight must be 0 or more"));
             }
         }
-        for (flag, on, what) in [("--cross-content", self.cross_content, "swaps"), ("--cross-set", self.cross_set, "pairs")] {
+        for (flag, on, what) in
+            [("--cross-content", self.cross_content, "swaps"), ("--cross-set", self.cross_set, "pairs")]
+        {
             if on && self.style_stats <= 0.0 {
-                return Err(format!("{flag} needs --style-stats above 0 (its {what} are judged by the style statistics)"));
+                return Err(format!(
+                    "{flag} needs --style-stats above 0 (its {what} are judged by the style statistics)"
+                ));
             }
         }
         Ok(())
