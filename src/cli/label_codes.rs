@@ -7,7 +7,7 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use motion_stylizer::dataset::Split;
 use motion_stylizer::eval::import_takes;
-use motion_stylizer::stylize::Manifest;
+use motion_stylizer::stylize::{Manifest, Setting};
 
 #[derive(Args, Debug)]
 pub struct LabelCodesArgs {
@@ -56,16 +56,12 @@ pub fn run(args: &LabelCodesArgs) -> anyhow::Result<()> {
     let path = dir.join("manifest.json");
     let mut manifest: Manifest = serde_json::from_str(&super::read_text(&path)?)
         .with_context(|| format!("{} is not a weights manifest", path.display()))?;
-    let entry = manifest
-        .models
-        .iter_mut()
-        .find(|m| m.setting == "supervised")
-        .context("the manifest lists no supervised model")?;
+    let entry = manifest.entry_mut(Setting::Supervised).context("the manifest lists no supervised model")?;
     eprintln!("{} training takes encoded; per label: {:?}", takes.len(), codes.takes);
     entry.label_codes = Some(codes);
     if let Some(neutral) = neutral {
         eprintln!("unsupervised model's neutral code: {} `normal` training takes encoded", neutral.takes);
-        if let Some(entry) = manifest.models.iter_mut().find(|m| m.setting == "unsupervised") {
+        if let Some(entry) = manifest.entry_mut(Setting::Unsupervised) {
             entry.neutral_code = Some(neutral);
         }
     }

@@ -101,6 +101,17 @@ pub struct Manifest {
 }
 
 impl Manifest {
+    /// The entry of `setting`, if the manifest lists one: the one lookup every reader and writer
+    /// of a manifest uses.
+    pub fn entry(&self, setting: super::Setting) -> Option<&ModelEntry> {
+        self.models.iter().find(|m| m.setting == setting.as_str())
+    }
+
+    /// [`Manifest::entry`], to change it.
+    pub fn entry_mut(&mut self, setting: super::Setting) -> Option<&mut ModelEntry> {
+        self.models.iter_mut().find(|m| m.setting == setting.as_str())
+    }
+
     /// The manifest as `manifest.json` holds it: pretty JSON with every array of plain numbers on
     /// one line (the label codes: 16 lines, not 4,000), ending in a newline.
     pub fn to_json(&self) -> Result<String, serde_json::Error> {

@@ -197,7 +197,7 @@ impl Weights {
     /// the shared networks already loaded; format 1 files are whole bundles. Errors as
     /// [`Weights::from_files`]; on an error nothing changes.
     pub fn add_setting(&mut self, setting: Setting, bytes: &[u8]) -> Result<(), StylizeError> {
-        let entry = entry_of(&self.manifest, setting).ok_or(StylizeError::SettingUnavailable { setting })?;
+        let entry = self.manifest.entry(setting).ok_or(StylizeError::SettingUnavailable { setting })?;
         let context = |e: StylizeError| match e {
             StylizeError::BadWeights(m) => bad(format!("{setting} file {}: {m}", entry.file)),
             other => other,
@@ -276,7 +276,7 @@ impl Weights {
     /// [`StylizeError::BadWeights`] (a file that is not this model's style encoder); on an error
     /// nothing changes.
     pub fn add_style_encoder(&mut self, setting: Setting, bytes: &[u8]) -> Result<(), StylizeError> {
-        let entry = entry_of(&self.manifest, setting).ok_or(StylizeError::SettingUnavailable { setting })?;
+        let entry = self.manifest.entry(setting).ok_or(StylizeError::SettingUnavailable { setting })?;
         let model = match setting {
             Setting::Supervised => self.supervised.as_mut(),
             Setting::Unsupervised => self.unsupervised.as_mut(),
@@ -427,19 +427,14 @@ impl Weights {
     }
 }
 
-/// The manifest's entry of `setting`, if it lists one.
-fn entry_of(manifest: &Manifest, setting: Setting) -> Option<&manifest::ModelEntry> {
-    manifest.models.iter().find(|m| Setting::from_name(&m.setting) == Some(setting))
-}
-
 /// The supervised entry's label codes, if the manifest has them.
 fn label_codes_of(manifest: &Manifest) -> Option<&manifest::LabelCodes> {
-    entry_of(manifest, Setting::Supervised)?.label_codes.as_ref()
+    manifest.entry(Setting::Supervised)?.label_codes.as_ref()
 }
 
 /// The unsupervised entry's neutral code, if the manifest has it.
 fn neutral_code_of(manifest: &Manifest) -> Option<&manifest::NeutralCode> {
-    entry_of(manifest, Setting::Unsupervised)?.neutral_code.as_ref()
+    manifest.entry(Setting::Unsupervised)?.neutral_code.as_ref()
 }
 
 /// The neutral code after checking it against the model: `style_dim` finite numbers.
@@ -482,7 +477,7 @@ pub fn parse_manifest(json: &[u8]) -> Result<Manifest, StylizeError> {
         )));
     }
     // Weights trained on a folder without labels have no supervised model and no labels.
-    let supervised = manifest.models.iter().any(|m| Setting::from_name(&m.setting) == Some(Setting::Supervised));
+    let supervised = manifest.entry(Setting::Supervised).is_some();
     if (manifest.styles.is_empty() && supervised) || manifest.styles.len() > usize::from(u8::MAX) + 1 {
         return Err(bad(format!("the manifest lists {} style labels", manifest.styles.len())));
     }

@@ -328,7 +328,7 @@ fn write_label_codes(
 ) -> anyhow::Result<()> {
     use super::label_codes::{LabelledMotion, label_codes_of};
     use crate::dataset::Style;
-    use crate::stylize::{Manifest, Weights};
+    use crate::stylize::{Manifest, Setting, Weights};
     let weights = Weights::load_dir(weights_dir).with_context(|| format!("cannot load {}", weights_dir.display()))?;
     let mut motions: Vec<(String, usize, Style, crate::Motion)> = Vec::new();
     if folder::is_bandai_layout(&opts.data) {
@@ -374,7 +374,7 @@ fn write_label_codes(
     // Fine-tuned: the old labels' codes merged with the new takes' by take count.
     if let Some(from) = &opts.from {
         let old: Manifest = rundir::read_json(&from.join("manifest.json"))?;
-        let old_codes = old.models.iter().find(|m| m.setting == "supervised").and_then(|m| m.label_codes.as_ref());
+        let old_codes = old.entry(Setting::Supervised).and_then(|m| m.label_codes.as_ref());
         if let Some(old_codes) = old_codes {
             super::label_codes::merge_old_codes(&mut codes, old_codes);
         }
@@ -382,15 +382,11 @@ fn write_label_codes(
     say(format!("label codes from {} labelled training files", items.len()));
     let path = weights_dir.join("manifest.json");
     let mut manifest: Manifest = rundir::read_json(&path)?;
-    let entry = manifest
-        .models
-        .iter_mut()
-        .find(|m| m.setting == "supervised")
-        .context("the exported manifest lists no supervised model")?;
+    let entry = manifest.entry_mut(Setting::Supervised).context("the exported manifest lists no supervised model")?;
     entry.label_codes = Some(codes);
     // The unsupervised model's neutral code, where its network is new (an export clears it with
     // the network it belongs to; kept where the network is the `--from` weights').
-    if let Some(entry) = manifest.models.iter_mut().find(|m| m.setting == "unsupervised" && m.neutral_code.is_none()) {
+    if let Some(entry) = manifest.entry_mut(Setting::Unsupervised).filter(|m| m.neutral_code.is_none()) {
         entry.neutral_code = super::label_codes::neutral_code_of(&weights, &items, opts.command.clone())?;
     }
     rundir::write_atomic(&path, manifest.to_json()?.as_bytes())

@@ -100,7 +100,7 @@ impl EncodingChoice {
                 .with_context(|| format!("the manifest's {what} encoding {spec:?} is not one (f16, q8, q4g64, ...)")),
         };
         let model = |setting: Setting| {
-            let entry = manifest.models.iter().find(|e| e.setting == setting.as_str());
+            let entry = manifest.entry(setting);
             recorded(setting.as_str(), entry.and_then(|e| e.encoding.as_deref()))
         };
         let folder = Encodings {

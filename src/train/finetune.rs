@@ -50,7 +50,7 @@ pub fn read_from(dir: &Path) -> anyhow::Result<FromWeights> {
     let manifest = weights.manifest();
     let setting = weights.settings().first().copied().with_context(|| format!("--from {}: no model", dir.display()))?;
     let config = weights.model(setting)?.config.clone();
-    let width = manifest.models.iter().find(|m| m.setting == setting.as_str()).map_or(0.0, |m| m.width);
+    let width = manifest.entry(setting).map_or(0.0, |m| m.width);
     let classifier = load_old_classifier(dir)?.map(|(config, _)| config);
     Ok(FromWeights { labels: manifest.styles.clone(), norm: weights.norm().clone(), config, width, classifier })
 }
