@@ -89,15 +89,8 @@ pub fn label_codes_of(
     let mut takes_per_label = Vec::with_capacity(labels);
     for label in 0..labels {
         let present: Vec<usize> = (0..groups.len()).filter(|&s| counts[s * labels + label] > 0).collect();
-        let mut centre = vec![0.0f64; dim];
-        for &s in &present {
-            let n = counts[s * labels + label] as f64;
-            for (c, v) in centre.iter_mut().zip(&sums[s * labels + label]) {
-                *c += v / n / present.len() as f64;
-            }
-        }
-        // Four decimals: the manifest stays small (the codes' spread is ~0.1-1).
-        codes.push(centre.iter().map(|&v| ((v * 1e4).round() / 1e4) as f32).collect());
+        let slots = present.iter().map(|&s| (sums[s * labels + label].as_slice(), counts[s * labels + label]));
+        codes.push(balanced_centre(slots.collect(), dim));
         takes_per_label.push(present.iter().map(|&s| counts[s * labels + label]).sum());
     }
     Ok(LabelCodes { command, takes: takes_per_label, codes })
@@ -129,19 +122,24 @@ pub fn neutral_code_of(
     if by_group.is_empty() {
         return Ok(None);
     }
-    let groups = by_group.len() as f64;
-    let mut centre = vec![0.0f64; dim];
-    for (sum, count) in by_group.values() {
-        for (c, s) in centre.iter_mut().zip(sum) {
-            *c += s / *count as f64 / groups;
-        }
-    }
     Ok(Some(NeutralCode {
         command,
         takes: by_group.values().map(|(_, n)| n).sum(),
-        // Four decimals, as the label codes.
-        code: centre.iter().map(|&v| ((v * 1e4).round() / 1e4) as f32).collect(),
+        code: balanced_centre(by_group.values().map(|(sum, n)| (sum.as_slice(), *n)).collect(), dim),
     }))
+}
+
+/// The mean over groups of each group's mean code, from each group's sum of codes and count
+/// (groups with at least one motion), so that a data set with ~400 takes of a label weighs no more
+/// than one with ~11. Four decimals: the manifest stays small (the codes' spread is ~0.1-1).
+fn balanced_centre(groups: Vec<(&[f64], usize)>, dim: usize) -> Vec<f32> {
+    let mut centre = vec![0.0f64; dim];
+    for &(sum, count) in &groups {
+        for (c, s) in centre.iter_mut().zip(sum) {
+            *c += s / count as f64 / groups.len() as f64;
+        }
+    }
+    centre.iter().map(|&v| ((v * 1e4).round() / 1e4) as f32).collect()
 }
 
 /// Fine-tuning's label codes: `codes` (computed from the new data's takes) merged with `old`
