@@ -6,8 +6,8 @@ use burn::prelude::*;
 use motion_stylizer::model::classifier::StyleClassifier;
 use motion_stylizer::model::layers::{
     AdaIn, ConvLayerConfig, SHIFTED_MIN_BATCH, conv1d_gemm, conv1d_gemm_cbt, conv3_shifted_cbt, fold_upsampling_taps,
-    from_cbt, instance_norm, reflect_pad_time, split_taps, to_cbt, upsample_nearest2, upsample2_conv1d_gemm_cbt,
-    xavier_conv1d,
+    from_cbt, instance_norm, interleave_parities, interleave_parities_by_tensor_ops, leaky_relu, reflect_pad_time,
+    split_taps, to_cbt, upsample_nearest2, upsample2_conv1d_gemm_cbt, xavier_conv1d,
 };
 use motion_stylizer::model::regressor::regressor_input;
 use motion_stylizer::model::weights::{from_f16_bytes, load_bundle, save_bundle, to_f16_bytes};
@@ -198,6 +198,21 @@ fn upsampling_convolution_with_folded_taps_matches_upsample_then_conv() {
             assert_eq!(values(prefolded), values(folded), "b{b} t{t}: the same taps, the same bytes");
         }
     }
+    // The parities interleaved on the CPU (the path on flex) and in tensor operations (the path on
+    // other devices): the same values in the same places, byte for byte.
+    for &(c, b, t) in &[(1, 1, 1), (3, 2, 5), (7, 4, 20)] {
+        let product =
+            Tensor::<2>::from_data(TensorData::new(rng.normals(2 * c * b * (t + 1)), [2 * c, b * (t + 1)]), &device());
+        let on_cpu = interleave_parities(product.clone(), c, b, t);
+        let by_ops = interleave_parities_by_tensor_ops(product.clone(), c, b, t);
+        assert_eq!(on_cpu.dims(), [c, b, 2 * t]);
+        assert_eq!(values(on_cpu.clone()), values(by_ops), "c{c} b{b} t{t}");
+        // Output 2s + 1 of the last channel and clip is the odd row's column s + 1.
+        let p = values(product);
+        let last = values(on_cpu.narrow(0, c - 1, 1).narrow(1, b - 1, 1));
+        assert_eq!(last[2 * t - 1], p[(2 * c - 1) * b * (t + 1) + (b - 1) * (t + 1) + t]);
+    }
+
     // Other shapes have no folded taps (and the function upsamples, then convolves).
     assert!(fold_upsampling_taps(&xavier_conv1d(4, 4, 3, 2, 1, true, &device())).is_none());
     assert!(fold_upsampling_taps(&xavier_conv1d(4, 4, 1, 1, 0, true, &device())).is_none());
@@ -265,7 +280,11 @@ fn kernel3_convolution_as_shifted_products_matches_the_columns() {
         assert_eq!(inference.dims(), [SHIFTED_MIN_BATCH, 6, 12]);
         // (Other sums, so some bytes differ: the shifted path did run; fixed seed, so not by chance.)
         assert_ne!(values(inference.clone()), values(expected.clone()), "reflect {reflect}");
-        assert!(max_abs_diff(inference, expected.clone()) < 1e-5);
+        assert!(max_abs_diff(inference.clone(), expected.clone()) < 1e-5);
+        // The activation goes over the product with its padding frames, then the frames are cut:
+        // the bytes of the activation of the cut frames.
+        let shifted = from_cbt(conv3_shifted_cbt(&layer.conv, &split_taps(&layer.conv), to_cbt(x.clone()), reflect));
+        assert_eq!(values(inference), values(leaky_relu(shifted)), "reflect {reflect}");
         // Below the batch threshold: the columns, byte for byte.
         let small = x.clone().narrow(0, 0, SHIFTED_MIN_BATCH - 1);
         assert_eq!(values(layer.forward(small)), values(expected.clone().narrow(0, 0, SHIFTED_MIN_BATCH - 1)));
