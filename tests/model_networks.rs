@@ -4,10 +4,12 @@
 
 use burn::prelude::*;
 use motion_stylizer::model::classifier::StyleClassifier;
+use motion_stylizer::model::cpu_conv::{CpuBias, CpuTaps};
 use motion_stylizer::model::layers::{
-    AdaIn, ConvLayerConfig, SHIFTED_MIN_BATCH, conv1d_gemm, conv1d_gemm_cbt, conv3_shifted_cbt, fold_upsampling_taps,
-    from_cbt, instance_norm, interleave_parities, interleave_parities_by_tensor_ops, leaky_relu, reflect_pad_time,
-    split_taps, to_cbt, upsample_nearest2, upsample2_conv1d_gemm_cbt, xavier_conv1d,
+    AdaIn, ConvLayerConfig, SHIFTED_MIN_BATCH, conv1d_gemm, conv1d_gemm_cbt, conv3_shifted_cbt, conv3_shifted_on_cpu,
+    fold_upsampling_taps, from_cbt, instance_norm, interleave_parities, interleave_parities_by_tensor_ops, leaky_relu,
+    reflect_pad_time, split_taps, to_cbt, upsample_nearest2, upsample2_conv1d_gemm_cbt, upsample2_conv1d_on_cpu,
+    xavier_conv1d,
 };
 use motion_stylizer::model::regressor::regressor_input;
 use motion_stylizer::model::weights::{from_f16_bytes, load_bundle, save_bundle, to_f16_bytes};
@@ -213,6 +215,24 @@ fn upsampling_convolution_with_folded_taps_matches_upsample_then_conv() {
         assert_eq!(last[2 * t - 1], p[(2 * c - 1) * b * (t + 1) + (b - 1) * (t + 1) + t]);
     }
 
+    // On the CPU with the bias and the activation in the interleaving pass: the tensor path's
+    // bytes, with and without the activation.
+    for bias in [true, false] {
+        let mut conv = xavier_conv1d(12, 7, 3, 1, 1, bias, &device());
+        // A bias that is not zero, so that adding it shows.
+        conv.bias = conv.bias.map(|b| burn::module::Param::from_tensor(b.val() + 0.25));
+        let folded = fold_upsampling_taps(&conv).expect("k3, stride 1, padding 1");
+        let cpu_bias = CpuBias::new(conv.bias.as_ref().map(|b| b.val()), 7).expect("f32 bias");
+        let x = features(&mut rng, 3, 12, 10);
+        let by_ops = from_cbt(upsample2_conv1d_gemm_cbt(&conv, Some(folded.clone()), to_cbt(x.clone())));
+        for activate in [false, true] {
+            let on_cpu = upsample2_conv1d_on_cpu(folded.clone(), &cpu_bias, to_cbt(x.clone()), activate);
+            let on_cpu = from_cbt(on_cpu.expect("f32"));
+            let expected = if activate { leaky_relu(by_ops.clone()) } else { by_ops.clone() };
+            assert_eq!(values(on_cpu), values(expected), "bias {bias} activate {activate}");
+        }
+    }
+
     // Other shapes have no folded taps (and the function upsamples, then convolves).
     assert!(fold_upsampling_taps(&xavier_conv1d(4, 4, 3, 2, 1, true, &device())).is_none());
     assert!(fold_upsampling_taps(&xavier_conv1d(4, 4, 1, 1, 0, true, &device())).is_none());
@@ -266,6 +286,31 @@ fn kernel3_convolution_as_shifted_products_matches_the_columns() {
                 let diff = max_abs_diff(shifted.clone(), columns);
                 assert!(diff < 1e-5, "b{b} t{t} bias {bias} reflect {reflect}: {diff}");
                 assert!(max_abs_diff(shifted, conv.forward(padded)) < 1e-5, "b{b} t{t}: Burn's convolution");
+            }
+        }
+    }
+
+    // On the CPU, the three products accumulated into one buffer with the bias and the activation
+    // (`model::cpu_conv`): the tensor path's bytes where a product's sum over the input channels
+    // is one block, within rounding where `gemm` splits it (600 channels).
+    for &(c_in, b, t) in &[(12, 4, 9), (600, 5, 16)] {
+        for reflect in [false, true] {
+            let conv = xavier_conv1d(c_in, 7, 3, 1, if reflect { 0 } else { 1 }, true, &device());
+            let taps = split_taps(&conv);
+            let cpu = CpuTaps::new(taps.clone(), conv.bias.as_ref().map(|b| b.val())).expect("f32 taps");
+            let x = features(&mut rng, b, c_in, t);
+            let by_ops = from_cbt(conv3_shifted_cbt(&conv, &taps, to_cbt(x.clone()), reflect));
+            for activate in [false, true] {
+                let on_cpu = conv3_shifted_on_cpu(&cpu, to_cbt(x.clone()), reflect, activate).expect("f32 input");
+                let on_cpu = from_cbt(on_cpu);
+                let expected = if activate { leaky_relu(by_ops.clone()) } else { by_ops.clone() };
+                assert_eq!(on_cpu.dims(), [b, 7, t]);
+                if c_in == 12 {
+                    assert_eq!(values(on_cpu), values(expected), "c_in {c_in} reflect {reflect} activate {activate}");
+                } else {
+                    let diff = max_abs_diff(on_cpu, expected);
+                    assert!(diff < 1e-4, "c_in {c_in} reflect {reflect} activate {activate}: {diff}");
+                }
             }
         }
     }

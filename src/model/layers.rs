@@ -18,6 +18,9 @@ use burn::module::Param;
 use burn::nn::conv::{Conv1d, Conv1dConfig};
 use burn::nn::{Dropout, DropoutConfig, Initializer, Linear, LinearConfig, PaddingConfig1d};
 use burn::prelude::*;
+use std::sync::Arc;
+
+use super::cpu_conv::{self, CpuBias, CpuTaps, shifted_products};
 
 /// Negative slope of every LeakyReLU.
 pub const LEAKY_SLOPE: f64 = 0.2;
@@ -225,10 +228,14 @@ pub struct ConvLayer {
 /// What [`ConvLayer::fold_for_inference`] computes once from a layer's weights.
 #[derive(Clone, Debug)]
 enum PreparedTaps {
-    /// An upsampling layer's folded taps ([`fold_upsampling_taps`]), `[2·C_out, 2·C_in]`.
-    Upsampling(Tensor<2>),
-    /// A kernel-3, stride-1 layer's taps one after another ([`split_taps`]), `[3, C_out, C_in]`.
-    Shifted(Tensor<3>),
+    /// An upsampling layer's folded taps ([`fold_upsampling_taps`]), `[2·C_out, 2·C_in]`; on the
+    /// CPU also its bias as values, for the interleave with the bias and the activation in one
+    /// pass ([`super::cpu_conv::interleave_parities`]).
+    Upsampling(Tensor<2>, Option<Arc<CpuBias>>),
+    /// A kernel-3, stride-1 layer's taps one after another ([`split_taps`]), `[3, C_out, C_in]`;
+    /// on the CPU also as values with the bias, for the products into one buffer
+    /// ([`super::cpu_conv`]).
+    Shifted(Tensor<3>, Option<Arc<CpuTaps>>),
 }
 
 impl ConvLayer {
@@ -246,9 +253,18 @@ impl ConvLayer {
     pub fn fold_for_inference(&mut self) {
         let [_, _, k] = self.conv.weight.dims();
         self.prepared = if self.upsample && self.reflect_pad == 0 {
-            fold_upsampling_taps(&self.conv).map(PreparedTaps::Upsampling)
+            fold_upsampling_taps(&self.conv).map(|folded| {
+                let on_cpu = (folded.device() == Device::flex())
+                    .then(|| CpuBias::new(self.conv.bias.as_ref().map(|b| b.val()), self.conv.weight.dims()[0]))
+                    .flatten();
+                PreparedTaps::Upsampling(folded, on_cpu)
+            })
         } else if !self.upsample && k == 3 && self.conv.stride == 1 && self.padding().is_some() {
-            Some(PreparedTaps::Shifted(split_taps(&self.conv)))
+            let taps = split_taps(&self.conv);
+            let on_cpu = (taps.device() == Device::flex())
+                .then(|| CpuTaps::new(taps.clone(), self.conv.bias.as_ref().map(|b| b.val())))
+                .flatten();
+            Some(PreparedTaps::Shifted(taps, on_cpu))
         } else {
             None
         };
@@ -276,24 +292,44 @@ impl ConvLayer {
         let prepared = self.prepared.as_ref().filter(|_| !x.is_tracked());
         let mut x = match (prepared, self.padding()) {
             // Inference: the upsampling and the convolution in one, on the frames as they are.
-            (Some(PreparedTaps::Upsampling(folded)), _) if folded.device() == x.device() => {
-                upsample2_conv1d_gemm_cbt(&self.conv, Some(folded.clone()), x)
+            (Some(PreparedTaps::Upsampling(folded, on_cpu)), _) if folded.device() == x.device() => {
+                let fuse = !self.instance_norm && self.dropout.is_none() && self.activate;
+                if let Some(bias) = on_cpu
+                    && let Some(out) = upsample2_conv1d_on_cpu(folded.clone(), bias, x.clone(), fuse)
+                {
+                    if fuse {
+                        return out;
+                    }
+                    out
+                } else {
+                    upsample2_conv1d_gemm_cbt(&self.conv, Some(folded.clone()), x)
+                }
             }
             // Inference: three products on shifted views of the padded frames, no columns.
-            (Some(PreparedTaps::Shifted(taps)), Some(reflect))
+            (Some(PreparedTaps::Shifted(taps, on_cpu)), Some(reflect))
                 if taps.device() == x.device()
                     && x.dims()[1] >= SHIFTED_MIN_BATCH
                     && (!reflect || x.dims()[2] >= 2) =>
             {
                 let frames = x.dims()[2];
-                let padded = conv3_shifted_padded_cbt(&self.conv, taps, x, reflect);
                 // Without a norm, the activation goes over the whole contiguous product (one
-                // vectorised pass in place; the padding frames' few extra values are cut after):
-                // on the cut view it would go block by block, 4 % of a ten-sample batch.
-                if !self.instance_norm && self.dropout.is_none() && self.activate {
-                    return leaky_relu(padded).narrow(2, 0, frames);
+                // vectorised pass; the padding frames' few extra values are cut after): on the
+                // cut view flex would go block by block, 4 % of a ten-sample batch.
+                let fuse = !self.instance_norm && self.dropout.is_none() && self.activate;
+                if let Some(cpu) = on_cpu
+                    && let Some(out) = conv3_shifted_on_cpu(cpu, x.clone(), reflect, fuse)
+                {
+                    if fuse {
+                        return out;
+                    }
+                    out
+                } else {
+                    let padded = conv3_shifted_padded_cbt(&self.conv, taps, x, reflect);
+                    if fuse {
+                        return leaky_relu(padded).narrow(2, 0, frames);
+                    }
+                    padded.narrow(2, 0, frames)
                 }
-                padded.narrow(2, 0, frames)
             }
             _ => {
                 let x = if self.upsample { upsample_nearest2(x) } else { x };
@@ -463,31 +499,52 @@ pub fn upsample2_conv1d_gemm_cbt(conv: &Conv1d, folded: Option<Tensor<2>>, x: Te
     let Some(folded) = folded.or_else(|| fold_upsampling_taps(conv)) else {
         return conv1d_gemm_cbt(conv, upsample_nearest2(x));
     };
-    let [c_out, c_in, _] = conv.weight.dims();
+    let c_out = conv.weight.dims()[0];
     let [_, b, t] = x.dims();
-    let zeros = Tensor::<3>::zeros([c_in, b, 1], &x.device());
-    let padded = Tensor::cat(vec![zeros.clone(), x, zeros], 2);
-    // Windows of two frames (a view), laid out `[C_in, 2, B, T+1]` by one copy.
-    let cols = padded.unfold::<4, _>(2, 2, 1).permute([0, 3, 1, 2]).reshape([c_in * 2, b * (t + 1)]);
-    let out = interleave_parities(folded.matmul(cols), c_out, b, t);
+    let out = interleave_parities(folded.matmul(upsampling_columns(x)), c_out, b, t);
     match &conv.bias {
         Some(bias) => out + bias.val().reshape([c_out, 1, 1]),
         None => out,
     }
 }
 
+/// The columns of [`upsample2_conv1d_gemm_cbt`]'s product: windows of two frames of `x`
+/// `[C_in, B, T]` zero-padded by one frame on either side, `[C_in·2, B·(T+1)]`.
+fn upsampling_columns(x: Tensor<3>) -> Tensor<2> {
+    let [c_in, b, t] = x.dims();
+    let zeros = Tensor::<3>::zeros([c_in, b, 1], &x.device());
+    let padded = Tensor::cat(vec![zeros.clone(), x, zeros], 2);
+    // Windows of two frames (a view), laid out `[C_in, 2, B, T+1]` by one copy.
+    padded.unfold::<4, _>(2, 2, 1).permute([0, 3, 1, 2]).reshape([c_in * 2, b * (t + 1)])
+}
+
+/// [`upsample2_conv1d_gemm_cbt`] on flex with the folded taps and the bias as values
+/// ([`CpuBias`]): the parities interleaved, the bias added and (with `activate`) the LeakyReLU in
+/// one pass over the product ([`super::cpu_conv::interleave_parities`]); the same bytes as the
+/// tensor path. `None` where the product is not `f32` (the caller takes the tensor path).
+pub fn upsample2_conv1d_on_cpu(folded: Tensor<2>, bias: &CpuBias, x: Tensor<3>, activate: bool) -> Option<Tensor<3>> {
+    let [_, b, t] = x.dims();
+    let device = x.device();
+    let c_out = bias.c_out();
+    let data = folded.matmul(upsampling_columns(x)).into_data();
+    let values = cpu_conv::interleave_parities(data.as_slice::<f32>().ok()?, c_out, b, t, Some(bias), activate)?;
+    Some(Tensor::from_data(TensorData::new(values, [c_out, b, 2 * t]), &device))
+}
+
 /// The two parities of [`upsample2_conv1d_gemm_cbt`]'s product `[2·C_out, B·(T+1)]` interleaved
 /// into `[C_out, B, 2T]`: output `2s + p` of channel `c`, clip `b` is the product's row
 /// `p·C_out + c`, column `b·(T+1) + s + p`. On the CPU in one pass of plain Rust over the values
-/// ([`interleave_parities_on_cpu`]), elsewhere by [`interleave_parities_by_tensor_ops`]; the same
-/// values moved either way, so the same bytes.
+/// ([`cpu_conv::interleave_parities`]: the three copies of the tensor operations took 4 % of a
+/// ten-sample batch on an AVX-512 Xeon), elsewhere by [`interleave_parities_by_tensor_ops`]; the
+/// same values moved either way, so the same bytes.
 pub fn interleave_parities(product: Tensor<2>, c_out: usize, b: usize, t: usize) -> Tensor<3> {
     if product.device() != Device::flex() {
         return interleave_parities_by_tensor_ops(product, c_out, b, t);
     }
     let device = product.device();
     let data = product.into_data();
-    match interleave_parities_on_cpu(&data, c_out, b, t) {
+    let values = data.as_slice::<f32>().ok().and_then(|v| cpu_conv::interleave_parities(v, c_out, b, t, None, false));
+    match values {
         Some(values) => Tensor::from_data(TensorData::new(values, [c_out, b, 2 * t]), &device),
         None => interleave_parities_by_tensor_ops(Tensor::from_data(data, &device), c_out, b, t),
     }
@@ -502,27 +559,6 @@ pub fn interleave_parities_by_tensor_ops(product: Tensor<2>, c_out: usize, b: us
     let even = out.clone().narrow(0, 0, 1).narrow(3, 0, t);
     let odd = out.narrow(0, 1, 1).narrow(3, 1, t);
     Tensor::cat(vec![even, odd], 0).permute([1, 2, 3, 0]).reshape([c_out, b, 2 * t])
-}
-
-/// [`interleave_parities`] on flex, in one pass of plain Rust over the product's values (moved
-/// out of the tensor and into the result without a copy): the three copies of
-/// [`interleave_parities_by_tensor_ops`] took 4 % of a ten-sample batch on an AVX-512 Xeon.
-/// `None` where the values are not `f32` or not `[2·C_out, B·(T+1)]` of them.
-fn interleave_parities_on_cpu(product: &TensorData, c_out: usize, b: usize, t: usize) -> Option<Vec<f32>> {
-    let src = product.as_slice::<f32>().ok().filter(|v| v.len() == 2 * c_out * b * (t + 1))?;
-    let (row, half) = (b * (t + 1), c_out * b * (t + 1));
-    let mut dst = vec![0.0f32; c_out * b * 2 * t];
-    for (c, channel) in dst.chunks_exact_mut(b * 2 * t).enumerate() {
-        for (clip, frames) in channel.chunks_exact_mut(2 * t).enumerate() {
-            let at = c * row + clip * (t + 1);
-            let (even, odd) = (&src[at..at + t], &src[half + at + 1..half + at + 1 + t]);
-            for ((pair, &e), &o) in frames.chunks_exact_mut(2).zip(even).zip(odd) {
-                pair[0] = e;
-                pair[1] = o;
-            }
-        }
-    }
-    Some(dst)
 }
 
 /// The smallest batch [`conv3_shifted_cbt`] is used for (the layers take [`conv1d_gemm_cbt`]
@@ -566,7 +602,23 @@ pub fn conv3_shifted_cbt(conv: &Conv1d, taps: &Tensor<3>, x: Tensor<3>, reflect:
 /// first and `L − T` padding frames (values of no use) after them, contiguous.
 fn conv3_shifted_padded_cbt(conv: &Conv1d, taps: &Tensor<3>, x: Tensor<3>, reflect: bool) -> Tensor<3> {
     let [_, c_out, c_in] = taps.dims();
-    let [_, b, t] = x.dims();
+    let b = x.dims()[1];
+    let (flat, l) = shifted_input(x, reflect);
+    let n = b * l;
+    let tap = |j: usize| taps.clone().narrow(0, j, 1).reshape([c_out, c_in]);
+    let shifted = |j: usize| tap(j).matmul(flat.clone().narrow(1, j, n));
+    let mut out = shifted(0) + shifted(1);
+    out = out + shifted(2);
+    if let Some(bias) = &conv.bias {
+        out = out + bias.val().reshape([c_out, 1]);
+    }
+    out.reshape([c_out, b, l])
+}
+
+/// The shifted products' input: the clips `[C_in, B, T]` padded side by side, with a clip of zeros
+/// after the last, as a matrix `[C_in, (B+1)·L]` (see [`conv3_shifted_cbt`]), and `L`.
+fn shifted_input(x: Tensor<3>, reflect: bool) -> (Tensor<2>, usize) {
+    let [c_in, b, t] = x.dims();
     let device = x.device();
     let (padded, l) = if reflect {
         let l = t + 2;
@@ -579,16 +631,23 @@ fn conv3_shifted_padded_cbt(conv: &Conv1d, taps: &Tensor<3>, x: Tensor<3>, refle
         // Batch: one clip of zeros after the last; time: one zero frame before each clip.
         (x.pad([(0, 1), (1, 0)], burn::tensor::ops::PadMode::Constant(0.0)), t + 1)
     };
-    let n = b * l;
-    let flat = padded.reshape([c_in, (b + 1) * l]);
-    let tap = |j: usize| taps.clone().narrow(0, j, 1).reshape([c_out, c_in]);
-    let shifted = |j: usize| tap(j).matmul(flat.clone().narrow(1, j, n));
-    let mut out = shifted(0) + shifted(1);
-    out = out + shifted(2);
-    if let Some(bias) = &conv.bias {
-        out = out + bias.val().reshape([c_out, 1]);
-    }
-    out.reshape([c_out, b, l])
+    (padded.reshape([c_in, (b + 1) * l]), l)
+}
+
+/// [`conv3_shifted_cbt`] on flex with the taps as values ([`CpuTaps`]): the three products
+/// accumulated into one buffer, the bias and (with `activate`) the LeakyReLU in one pass over it
+/// ([`super::cpu_conv::shifted_products`]). Other sums than the tensor path's only where `gemm`
+/// splits a product's input channels into blocks (within float rounding). `None` where the input
+/// is not `f32` (the caller takes the tensor path).
+pub fn conv3_shifted_on_cpu(taps: &CpuTaps, x: Tensor<3>, reflect: bool, activate: bool) -> Option<Tensor<3>> {
+    let [_, b, t] = x.dims();
+    let device = x.device();
+    let (flat, l) = shifted_input(x, reflect);
+    let ld = flat.dims()[1];
+    let data = flat.into_data();
+    let values = shifted_products(taps, data.as_slice::<f32>().ok()?, ld, b * l, activate)?;
+    let out = Tensor::<3>::from_data(TensorData::new(values, [taps.c_out(), b, l]), &device);
+    Some(out.narrow(2, 0, t))
 }
 
 /// Adaptive instance normalisation: `γ · IN(x) + β`, with `[γ ; β]` from one linear layer on the
