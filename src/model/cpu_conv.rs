@@ -131,7 +131,7 @@ pub fn shifted_products(taps: &CpuTaps, x: &[f32], ld: usize, n: usize, activate
 /// — in one pass, then each row finished with `bias` ([`CpuBias`]; none: as it is). In tensor
 /// operations the shift between the parities and the interleave take three copies
 /// ([`super::layers::interleave_parities_by_tensor_ops`]), the bias and the activation two more
-/// passes. `None` where `product` is not `2·C_out·B·(T+1)` values.
+/// passes. `None` where `product` is not `2·C_out·B·(T+1)` values or there are no frames.
 pub fn interleave_parities(
     product: &[f32],
     c_out: usize,
@@ -141,7 +141,7 @@ pub fn interleave_parities(
     activate: bool,
 ) -> Option<Vec<f32>> {
     let (row, half) = (b * (t + 1), c_out * b * (t + 1));
-    if product.len() != 2 * half || bias.is_some_and(|bias| bias.c_out != c_out) {
+    if b == 0 || t == 0 || product.len() != 2 * half || bias.is_some_and(|bias| bias.c_out != c_out) {
         return None;
     }
     let mut dst = vec![0.0f32; c_out * b * 2 * t];
