@@ -23,7 +23,8 @@ fn main() {
 mod bench {
     use burn::prelude::*;
     use motion_stylizer::model::NoiseRng;
-    use motion_stylizer::model::layers::{conv1d_gemm, xavier_conv1d};
+    use motion_stylizer::model::conv::conv1d_gemm;
+    use motion_stylizer::model::layers::xavier_conv1d;
     use std::time::Instant;
 
     /// (rows, channels in, channels out, frames, kernel, stride).

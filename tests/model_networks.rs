@@ -4,11 +4,14 @@
 
 use burn::prelude::*;
 use motion_stylizer::model::classifier::StyleClassifier;
+use motion_stylizer::model::conv::{
+    SHIFTED_MIN_BATCH, conv1d_gemm, conv1d_gemm_cbt, conv3_shifted_cbt, conv3_shifted_on_cpu, fold_upsampling_taps,
+    interleave_parities, interleave_parities_by_tensor_ops, split_taps, upsample2_conv1d_gemm_cbt,
+    upsample2_conv1d_on_cpu,
+};
 use motion_stylizer::model::cpu_conv::{CpuBias, CpuTaps};
 use motion_stylizer::model::layers::{
-    AdaIn, ConvLayerConfig, SHIFTED_MIN_BATCH, conv1d_gemm, conv1d_gemm_cbt, conv3_shifted_cbt, conv3_shifted_on_cpu,
-    fold_upsampling_taps, from_cbt, instance_norm, interleave_parities, interleave_parities_by_tensor_ops, leaky_relu,
-    reflect_pad_time, split_taps, to_cbt, upsample_nearest2, upsample2_conv1d_gemm_cbt, upsample2_conv1d_on_cpu,
+    AdaIn, ConvLayerConfig, from_cbt, instance_norm, leaky_relu, reflect_pad_time, to_cbt, upsample_nearest2,
     xavier_conv1d,
 };
 use motion_stylizer::model::regressor::regressor_input;

@@ -2,7 +2,7 @@
 //! copies: the kernel-3 layers' shifted products computed into one buffer, and the upsampling
 //! layers' parities interleaved, each with the bias and the activation in the same pass.
 //!
-//! [`super::layers::conv3_shifted_cbt`] convolves with three matrix products on shifted views of
+//! [`super::conv::conv3_shifted_cbt`] convolves with three matrix products on shifted views of
 //! the padded frames, then adds them and the bias, then (in the layer) applies the activation:
 //! through Burn, each product gets an output buffer of its own (flex zero-fills it, then copies
 //! it into an aligned allocation) and each addition and the activation is a pass over the
@@ -65,7 +65,7 @@ pub struct CpuTaps {
 }
 
 impl CpuTaps {
-    /// From the taps one after another `[3, C_out, C_in]` ([`super::layers::split_taps`]) and the
+    /// From the taps one after another `[3, C_out, C_in]` ([`super::conv::split_taps`]) and the
     /// bias `[C_out]`; `None` where their values are not `f32` or not of those sizes.
     pub fn new(taps: Tensor<3>, bias: Option<Tensor<1>>) -> Option<Arc<Self>> {
         let [k, c_out, c_in] = taps.dims();
@@ -80,7 +80,7 @@ impl CpuTaps {
 
 /// `Σⱼ Wⱼ · X[:, j … j + n]` (+ bias, then LeakyReLU if `activate`) for the padded frames `x`
 /// `[C_in, ld]` (row-major, `ld ≥ n + 2`): `[C_out, n]`, row-major. The products accumulate in
-/// the order [`super::layers::conv3_shifted_cbt`] adds them (tap 0, + tap 1, + tap 2; then the
+/// the order [`super::conv::conv3_shifted_cbt`] adds them (tap 0, + tap 1, + tap 2; then the
 /// bias), each product's own sum over the input channels in `gemm`'s blocks. `None` where the
 /// sizes do not fit.
 pub fn shifted_products(taps: &CpuTaps, x: &[f32], ld: usize, n: usize, activate: bool) -> Option<Vec<f32>> {
@@ -126,11 +126,11 @@ pub fn shifted_products(taps: &CpuTaps, x: &[f32], ld: usize, n: usize, activate
 }
 
 /// The two parities of an upsampling layer's product `[2·C_out, B·(T+1)]`
-/// ([`super::layers::upsample2_conv1d_gemm_cbt`]) interleaved into `[C_out, B, 2T]` — output
+/// ([`super::conv::upsample2_conv1d_gemm_cbt`]) interleaved into `[C_out, B, 2T]` — output
 /// `2s + p` of channel `c`, clip `b` is the product's row `p·C_out + c`, column `b·(T+1) + s + p`
 /// — in one pass, then each row finished with `bias` ([`CpuBias`]; none: as it is). In tensor
 /// operations the shift between the parities and the interleave take three copies
-/// ([`super::layers::interleave_parities_by_tensor_ops`]), the bias and the activation two more
+/// ([`super::conv::interleave_parities_by_tensor_ops`]), the bias and the activation two more
 /// passes. `None` where `product` is not `2·C_out·B·(T+1)` values or there are no frames.
 pub fn interleave_parities(
     product: &[f32],

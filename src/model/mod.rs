@@ -20,6 +20,7 @@ pub mod autoencoder;
 pub mod classifier;
 pub mod config;
 pub mod content;
+pub mod conv;
 pub mod cpu_conv;
 pub mod device;
 pub mod generator;
