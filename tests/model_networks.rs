@@ -7,9 +7,11 @@ use motion_stylizer::model::classifier::StyleClassifier;
 use motion_stylizer::model::conv::{
     SHIFTED_MIN_BATCH, conv1d_gemm, conv1d_gemm_cbt, conv3_shifted_cbt, conv3_shifted_on_cpu, fold_upsampling_taps,
     interleave_parities, interleave_parities_by_tensor_ops, split_taps, upsample2_conv1d_gemm_cbt,
-    upsample2_conv1d_on_cpu,
+    upsample2_conv1d_on_cpu, winograd_pays,
 };
-use motion_stylizer::model::cpu_conv::{CpuBias, CpuTaps};
+use motion_stylizer::model::cpu_conv::{
+    CpuTaps, CpuUpsampling, WINOGRAD_MIN_PAIRS, shifted_products, winograd_products,
+};
 use motion_stylizer::model::layers::{
     AdaIn, ConvLayerConfig, from_cbt, instance_norm, leaky_relu, reflect_pad_time, to_cbt, upsample_nearest2,
     xavier_conv1d,
@@ -218,23 +220,31 @@ fn upsampling_convolution_with_folded_taps_matches_upsample_then_conv() {
         assert_eq!(last[2 * t - 1], p[(2 * c - 1) * b * (t + 1) + (b - 1) * (t + 1) + t]);
     }
 
-    // On the CPU with the bias and the activation in the interleaving pass: the tensor path's
-    // bytes, with and without the activation.
+    // On the CPU, Winograd's three products (`cpu_conv::upsampling_products`) with the bias and the
+    // activation in the pass that combines them: the tensor path's numbers within rounding, with
+    // and without the activation, for one frame, several clips and longer clips.
     for bias in [true, false] {
         let mut conv = xavier_conv1d(12, 7, 3, 1, 1, bias, &device());
         // A bias that is not zero, so that adding it shows.
         conv.bias = conv.bias.map(|b| burn::module::Param::from_tensor(b.val() + 0.25));
         let folded = fold_upsampling_taps(&conv).expect("k3, stride 1, padding 1");
-        let cpu_bias = CpuBias::new(conv.bias.as_ref().map(|b| b.val()), 7).expect("f32 bias");
-        let x = features(&mut rng, 3, 12, 10);
-        let by_ops = from_cbt(upsample2_conv1d_gemm_cbt(&conv, Some(folded.clone()), to_cbt(x.clone())));
-        for activate in [false, true] {
-            let on_cpu = upsample2_conv1d_on_cpu(folded.clone(), &cpu_bias, to_cbt(x.clone()), activate);
-            let on_cpu = from_cbt(on_cpu.expect("f32"));
-            let expected = if activate { leaky_relu(by_ops.clone()) } else { by_ops.clone() };
-            assert_eq!(values(on_cpu), values(expected), "bias {bias} activate {activate}");
+        let cpu = CpuUpsampling::new(split_taps(&conv), conv.bias.as_ref().map(|b| b.val())).expect("f32 taps");
+        assert_eq!(cpu.c_out(), 7);
+        for &(b, t) in &[(1, 1), (3, 10), (2, 40)] {
+            let x = features(&mut rng, b, 12, t);
+            let by_ops = from_cbt(upsample2_conv1d_gemm_cbt(&conv, Some(folded.clone()), to_cbt(x.clone())));
+            for activate in [false, true] {
+                let on_cpu = upsample2_conv1d_on_cpu(&cpu, to_cbt(x.clone()), activate);
+                let on_cpu = from_cbt(on_cpu.expect("f32"));
+                assert_eq!(on_cpu.dims(), [b, 7, 2 * t]);
+                let expected = if activate { leaky_relu(by_ops.clone()) } else { by_ops.clone() };
+                let diff = max_abs_diff(on_cpu, expected);
+                assert!(diff < 1e-5, "b{b} t{t} bias {bias} activate {activate}: {diff}");
+            }
         }
     }
+    // A whole layer's bytes are another's than the folded taps' (the Winograd path ran) and its
+    // numbers the same: below.
 
     // Other shapes have no folded taps (and the function upsamples, then convolves).
     assert!(fold_upsampling_taps(&xavier_conv1d(4, 4, 3, 2, 1, true, &device())).is_none());
@@ -294,28 +304,50 @@ fn kernel3_convolution_as_shifted_products_matches_the_columns() {
     }
 
     // On the CPU, the three products accumulated into one buffer with the bias and the activation
-    // (`model::cpu_conv`): the tensor path's bytes where a product's sum over the input channels
-    // is one block, within rounding where `gemm` splits it (600 channels).
-    for &(c_in, b, t) in &[(12, 4, 9), (600, 5, 16)] {
+    // (`model::cpu_conv`), below `WINOGRAD_MIN_PAIRS` pairs of output columns: the tensor path's
+    // bytes where a product's sum over the input channels is one block, within rounding where
+    // `gemm` splits it (600 channels). From that many pairs on, Winograd's four products: the
+    // tensor path's numbers within rounding (an odd number of columns with zero padding: 7 clips
+    // of 4 + 1 frames).
+    for &(c_in, b, t) in &[(12, 4, 3), (600, 4, 2), (12, 7, 4), (12, 5, 20), (600, 5, 16)] {
         for reflect in [false, true] {
             let conv = xavier_conv1d(c_in, 7, 3, 1, if reflect { 0 } else { 1 }, true, &device());
             let taps = split_taps(&conv);
             let cpu = CpuTaps::new(taps.clone(), conv.bias.as_ref().map(|b| b.val())).expect("f32 taps");
             let x = features(&mut rng, b, c_in, t);
             let by_ops = from_cbt(conv3_shifted_cbt(&conv, &taps, to_cbt(x.clone()), reflect));
+            let winograd = winograd_pays(b, t, reflect);
+            assert_eq!(winograd, (b * if reflect { t + 2 } else { t + 1 }).div_ceil(2) >= WINOGRAD_MIN_PAIRS);
             for activate in [false, true] {
                 let on_cpu = conv3_shifted_on_cpu(&cpu, to_cbt(x.clone()), reflect, activate).expect("f32 input");
                 let on_cpu = from_cbt(on_cpu);
                 let expected = if activate { leaky_relu(by_ops.clone()) } else { by_ops.clone() };
                 assert_eq!(on_cpu.dims(), [b, 7, t]);
-                if c_in == 12 {
-                    assert_eq!(values(on_cpu), values(expected), "c_in {c_in} reflect {reflect} activate {activate}");
+                let what = format!("c_in {c_in} b{b} t{t} reflect {reflect} activate {activate} winograd {winograd}");
+                if c_in == 12 && !winograd {
+                    assert_eq!(values(on_cpu), values(expected), "{what}");
                 } else {
                     let diff = max_abs_diff(on_cpu, expected);
-                    assert!(diff < 1e-4, "c_in {c_in} reflect {reflect} activate {activate}: {diff}");
+                    assert!(diff < if c_in == 12 { 1e-5 } else { 1e-4 }, "{what}: {diff}");
                 }
             }
         }
+    }
+    assert!(winograd_pays(7, 4, false) && (7 * 5) % 2 == 1, "an odd number of columns is tested");
+    // Winograd's products on the tightest rows (`ld = n + 2`, odd and even `n`): the shifted
+    // products' numbers; rows shorter than that are refused.
+    for n in [33, 34] {
+        let conv = xavier_conv1d(9, 5, 3, 1, 1, true, &device());
+        let cpu = CpuTaps::new(split_taps(&conv), conv.bias.as_ref().map(|b| b.val())).expect("f32 taps");
+        let ld = n + 2;
+        let x = rng.normals(9 * ld);
+        let direct = shifted_products(&cpu, &x, ld, n, true).expect("fits");
+        let fast = winograd_products(&cpu, &x, ld, n, true).expect("fits");
+        assert_eq!(fast.len(), 5 * n);
+        let diff = direct.iter().zip(&fast).map(|(a, b)| (a - b).abs()).fold(0.0, f32::max);
+        assert!(diff < 1e-5, "n {n}: {diff}");
+        assert!(winograd_products(&cpu, &x[..9 * ld - 1], ld, n, true).is_none());
+        assert!(winograd_products(&cpu, &x, n + 1, n, true).is_none());
     }
 
     for reflect in [false, true] {
@@ -330,9 +362,10 @@ fn kernel3_convolution_as_shifted_products_matches_the_columns() {
         assert_ne!(values(inference.clone()), values(expected.clone()), "reflect {reflect}");
         assert!(max_abs_diff(inference.clone(), expected.clone()) < 1e-5);
         // The activation goes over the product with its padding frames, then the frames are cut:
-        // the bytes of the activation of the cut frames.
+        // the activation of the cut frames (Winograd's products here: within rounding).
+        assert!(winograd_pays(SHIFTED_MIN_BATCH, 12, reflect));
         let shifted = from_cbt(conv3_shifted_cbt(&layer.conv, &split_taps(&layer.conv), to_cbt(x.clone()), reflect));
-        assert_eq!(values(inference), values(leaky_relu(shifted)), "reflect {reflect}");
+        assert!(max_abs_diff(inference, leaky_relu(shifted)) < 1e-5, "reflect {reflect}");
         // Below the batch threshold: the columns, byte for byte.
         let small = x.clone().narrow(0, 0, SHIFTED_MIN_BATCH - 1);
         assert_eq!(values(layer.forward(small)), values(expected.clone().narrow(0, 0, SHIFTED_MIN_BATCH - 1)));

@@ -58,15 +58,20 @@ writeFileSync(join(work, 'style.bvh'), clip160(fixture('dataset-2_walk_elderly_0
 const dump = join(work, 'dump');
 const onnxDir = join(work, 'onnx');
 
-// Node 20's WASI now and then dies of SIGSEGV while the process exits, after the program has
-// written all of its output (seen 2026-12-04, 1 of ~10 runs): such a run is run again, at most twice,
-// and said so; any other failure stops the benchmark.
+// Node's WASI used to die of SIGSEGV now and then (seen 2026-12-04, 1 of ~10 runs; 2026-12-07, with
+// the upsampling layers' Winograd products, 4–5 of 10 on Node 20 and 10 of 10 on Node 22). Cause
+// (gdb, 2026-12-07): its `fd_write` is a V8 fast API call, it allocates, the allocation can start a
+// garbage collection, and that collection's stack walk inside a fast call crashes — how often
+// depends only on when the program's allocations make V8 collect. `wasm()` below therefore runs it
+// with `--no-turbo-fast-api-calls` (0 of 16 crashes on Node 20 and 22; a WASI call goes through
+// the ordinary path: microseconds, on the clock reads and the output only). A crash still seen is
+// run again, at most twice, and said so; any other failure stops the benchmark.
 const sh = (cmd, args, env = {}, tries = 3) => {
   try {
     return execFileSync(cmd, args, { encoding: 'utf8', env: { ...process.env, ...env }, maxBuffer: 1 << 26 });
   } catch (e) {
     if (e.signal !== 'SIGSEGV' || tries <= 1) throw e;
-    console.error(`warning: ${args[1] ?? cmd} died of SIGSEGV (exit code ${e.status}); running it again`);
+    console.error(`warning: ${args.find((a) => /\.(mjs|py)$/.test(a)) ?? cmd} died of SIGSEGV (exit code ${e.status}); running it again`);
     return sh(cmd, args, env, tries - 1);
   }
 };
@@ -76,7 +81,7 @@ const native = (n, dumpDir) =>
     RAYON_NUM_THREADS: String(threads),
   }));
 const wasm = (n, withDump) =>
-  lastJson(sh(process.execPath, ['--no-warnings', join(here, 'wasi-run.mjs'), wasmBin, weightsDir, work, String(n), ...(withDump ? ['dump'] : [])]));
+  lastJson(sh(process.execPath, ['--no-warnings', '--no-turbo-fast-api-calls', join(here, 'wasi-run.mjs'), wasmBin, weightsDir, work, String(n), ...(withDump ? ['dump'] : [])]));
 const torch = (n) => lastJson(sh(python, [join(here, 'torch_bench.py'), 'time', supervised, dump, String(n), String(threads)]));
 const hasPkg = existsSync(join(root, 'pkg/index.js')) && existsSync(join(root, 'pkg/engine_bg.wasm'));
 const pkgRun = (n) => lastJson(sh(process.execPath, ['--no-warnings', join(here, 'pkg-run.mjs'), work, String(n)]));

@@ -8,7 +8,7 @@ use burn::nn::PaddingConfig1d;
 use burn::nn::conv::Conv1d;
 use burn::prelude::*;
 
-use super::cpu_conv::{self, CpuBias, CpuTaps, shifted_products};
+use super::cpu_conv::{self, CpuTaps, CpuUpsampling, WINOGRAD_MIN_PAIRS, shifted_products, winograd_products};
 use super::layers::{from_cbt, leaky_relu, to_cbt, upsample_nearest2};
 
 /// The zero padding `conv1d_gemm_cbt` applies itself, or `None` for the shapes it leaves to
@@ -154,17 +154,17 @@ fn upsampling_columns(x: Tensor<3>) -> Tensor<2> {
     padded.unfold::<4, _>(2, 2, 1).permute([0, 3, 1, 2]).reshape([c_in * 2, b * (t + 1)])
 }
 
-/// [`upsample2_conv1d_gemm_cbt`] on flex with the folded taps and the bias as values
-/// ([`CpuBias`]): the parities interleaved, the bias added and (with `activate`) the LeakyReLU in
-/// one pass over the product ([`super::cpu_conv::interleave_parities`]); the same bytes as the
-/// tensor path. `None` where the product is not `f32` (the caller takes the tensor path).
-pub fn upsample2_conv1d_on_cpu(folded: Tensor<2>, bias: &CpuBias, x: Tensor<3>, activate: bool) -> Option<Tensor<3>> {
+/// [`upsample2_conv1d_gemm_cbt`] on flex with the taps as values ([`CpuUpsampling`]): three
+/// products instead of the folded taps' four multiply-adds a frame, combined into the frames in
+/// order with the bias and (with `activate`) the LeakyReLU
+/// ([`super::cpu_conv::upsampling_products`]). Other sums than the folded taps' (float
+/// rounding). `None` where the input is not `f32` (the caller takes the tensor path).
+pub fn upsample2_conv1d_on_cpu(up: &CpuUpsampling, x: Tensor<3>, activate: bool) -> Option<Tensor<3>> {
     let [_, b, t] = x.dims();
     let device = x.device();
-    let c_out = bias.c_out();
-    let data = folded.matmul(upsampling_columns(x)).into_data();
-    let values = cpu_conv::interleave_parities(data.as_slice::<f32>().ok()?, c_out, b, t, Some(bias), activate)?;
-    Some(Tensor::from_data(TensorData::new(values, [c_out, b, 2 * t]), &device))
+    let data = x.into_data();
+    let values = cpu_conv::upsampling_products(up, data.as_slice::<f32>().ok()?, b, t, activate)?;
+    Some(Tensor::from_data(TensorData::new(values, [up.c_out(), b, 2 * t]), &device))
 }
 
 /// The two parities of [`upsample2_conv1d_gemm_cbt`]'s product `[2·C_out, B·(T+1)]` interleaved
@@ -179,7 +179,7 @@ pub fn interleave_parities(product: Tensor<2>, c_out: usize, b: usize, t: usize)
     }
     let device = product.device();
     let data = product.into_data();
-    let values = data.as_slice::<f32>().ok().and_then(|v| cpu_conv::interleave_parities(v, c_out, b, t, None, false));
+    let values = data.as_slice::<f32>().ok().and_then(|v| cpu_conv::interleave_parities(v, c_out, b, t));
     match values {
         Some(values) => Tensor::from_data(TensorData::new(values, [c_out, b, 2 * t]), &device),
         None => interleave_parities_by_tensor_ops(Tensor::from_data(data, &device), c_out, b, t),
@@ -198,8 +198,9 @@ pub fn interleave_parities_by_tensor_ops(product: Tensor<2>, c_out: usize, b: us
 }
 
 /// The smallest batch [`conv3_shifted_cbt`] is used for (the layers take [`conv1d_gemm_cbt`]
-/// below it). Measured natively, one thread, on the AMD EPYC family 25 model 1 (Zen 3, AVX2) with
-/// both paths in one process taking turns (bench/README.md): a 160-frame label-based batch
+/// below it; in wasm Winograd's products go below it too, [`shifted_pays`]). Measured natively,
+/// one thread, on the AMD EPYC family 25 model 1 (Zen 3, AVX2) with both paths in one process
+/// taking turns (bench/README.md): a 160-frame label-based batch
 /// of 10 samples 4-7 % faster, of 4 the same, of 2 3-4 % slower and of 1 13 % slower (three
 /// products of a few frames each cost more than the one column copy they save).
 pub const SHIFTED_MIN_BATCH: usize = 4;
@@ -270,40 +271,66 @@ fn shifted_input(x: Tensor<3>, reflect: bool) -> (Tensor<2>, usize) {
     (padded.reshape([c_in, (b + 1) * l]), l)
 }
 
-/// [`conv3_shifted_cbt`] on flex with the taps as values ([`CpuTaps`]): the three products
-/// accumulated into one buffer, the bias and (with `activate`) the LeakyReLU in one pass over it
-/// ([`super::cpu_conv::shifted_products`]). Other sums than the tensor path's only where `gemm`
-/// splits a product's input channels into blocks (within float rounding). `None` where the input
-/// is not `f32` (the caller takes the tensor path).
+/// [`conv3_shifted_cbt`] on flex with the taps as values ([`CpuTaps`]): from
+/// [`WINOGRAD_MIN_PAIRS`] pairs of output columns on ([`winograd_pays`]) Winograd's four products
+/// ([`super::cpu_conv::winograd_products`]: ⅔ of the multiply-adds, other sums within float
+/// rounding), below it the three products accumulated into one buffer
+/// ([`super::cpu_conv::shifted_products`]: other sums than the tensor path's only where `gemm`
+/// splits a product's input channels into blocks); either way the bias and (with `activate`) the
+/// LeakyReLU in the pass that writes the output. `None` where the input is not `f32` (the caller
+/// takes the tensor path).
 pub fn conv3_shifted_on_cpu(taps: &CpuTaps, x: Tensor<3>, reflect: bool, activate: bool) -> Option<Tensor<3>> {
     let [_, b, t] = x.dims();
     let device = x.device();
     let (flat, l) = shifted_input(x, reflect);
     let ld = flat.dims()[1];
     let data = flat.into_data();
-    let values = shifted_products(taps, data.as_slice::<f32>().ok()?, ld, b * l, activate)?;
+    let (x, n) = (data.as_slice::<f32>().ok()?, b * l);
+    let values = if winograd_pays(b, t, reflect) {
+        winograd_products(taps, x, ld, n, activate)?
+    } else {
+        shifted_products(taps, x, ld, n, activate)?
+    };
     let out = Tensor::<3>::from_data(TensorData::new(values, [taps.c_out(), b, l]), &device);
     Some(out.narrow(2, 0, t))
 }
 
+/// Whether a kernel-3, stride-1 layer takes its prepared products ([`conv3_shifted_prepared`])
+/// rather than the columns ([`conv1d_gemm_cbt`]) for `B` clips of `T` frames: from
+/// [`SHIFTED_MIN_BATCH`] clips on; in wasm, with the taps as values on the CPU (`on_cpu`), also
+/// fewer clips where Winograd's products apply ([`winograd_pays`]). Natively one or two clips stay
+/// on the columns: there the one product over `3·C_in` is 1–2 % faster than four narrow ones (the
+/// `gemm` crate's packing weighs more against an AVX-512 kernel than against wasm's SIMD128 one).
+pub fn shifted_pays(on_cpu: bool, b: usize, t: usize, reflect: bool) -> bool {
+    b >= SHIFTED_MIN_BATCH || (cfg!(target_arch = "wasm32") && on_cpu && winograd_pays(b, t, reflect))
+}
+
+/// Whether [`conv3_shifted_on_cpu`] takes Winograd's products for `B` clips of `T` frames (padded
+/// with reflection or zeros): at least [`WINOGRAD_MIN_PAIRS`] pairs of output columns.
+pub fn winograd_pays(b: usize, t: usize, reflect: bool) -> bool {
+    let l = if reflect { t + 2 } else { t + 1 };
+    (b * l).div_ceil(2) >= WINOGRAD_MIN_PAIRS
+}
+
 /// An upsampling layer's prepared convolution ([`super::layers::ConvLayer::fold_for_inference`]):
-/// on the CPU with the bias and (with `activate`) the activation in the interleaving pass
-/// ([`upsample2_conv1d_on_cpu`]), elsewhere [`upsample2_conv1d_gemm_cbt`] then the activation.
+/// on the CPU Winograd's three products with the bias and (with `activate`) the activation in
+/// the pass that combines them ([`upsample2_conv1d_on_cpu`]), elsewhere
+/// [`upsample2_conv1d_gemm_cbt`] then the activation.
 pub fn upsample2_conv1d_prepared(
     conv: &Conv1d,
     folded: &Tensor<2>,
-    on_cpu: Option<&CpuBias>,
+    on_cpu: Option<&CpuUpsampling>,
     x: Tensor<3>,
     activate: bool,
 ) -> Tensor<3> {
-    if let Some(out) = on_cpu.and_then(|bias| upsample2_conv1d_on_cpu(folded.clone(), bias, x.clone(), activate)) {
+    if let Some(out) = on_cpu.and_then(|up| upsample2_conv1d_on_cpu(up, x.clone(), activate)) {
         return out;
     }
     let out = upsample2_conv1d_gemm_cbt(conv, Some(folded.clone()), x);
     if activate { leaky_relu(out) } else { out }
 }
 
-/// A kernel-3 layer's prepared convolution: on the CPU the products into one buffer
+/// A kernel-3 layer's prepared convolution: on the CPU the products into plain buffers
 /// ([`conv3_shifted_on_cpu`]), elsewhere [`conv3_shifted_cbt`]'s products; with `activate`, the
 /// activation over the whole product before the frames are cut.
 pub fn conv3_shifted_prepared(

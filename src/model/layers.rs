@@ -21,10 +21,10 @@ use burn::prelude::*;
 use std::sync::Arc;
 
 use super::conv::{
-    SHIFTED_MIN_BATCH, conv1d_gemm_cbt, conv3_shifted_prepared, fold_upsampling_taps, gemm_padding, split_taps,
+    conv1d_gemm_cbt, conv3_shifted_prepared, fold_upsampling_taps, gemm_padding, shifted_pays, split_taps,
     upsample2_conv1d_prepared,
 };
-use super::cpu_conv::{CpuBias, CpuTaps};
+use super::cpu_conv::{CpuTaps, CpuUpsampling};
 
 /// Negative slope of every LeakyReLU.
 pub const LEAKY_SLOPE: f64 = 0.2;
@@ -233,12 +233,12 @@ pub struct ConvLayer {
 #[derive(Clone, Debug)]
 enum PreparedTaps {
     /// An upsampling layer's folded taps ([`fold_upsampling_taps`]), `[2·C_out, 2·C_in]`; on the
-    /// CPU also its bias as values, for the interleave with the bias and the activation in one
-    /// pass ([`super::cpu_conv::interleave_parities`]).
-    Upsampling(Tensor<2>, Option<Arc<CpuBias>>),
+    /// CPU also its taps and bias as values for Winograd's three products
+    /// ([`super::cpu_conv::upsampling_products`]).
+    Upsampling(Tensor<2>, Option<Arc<CpuUpsampling>>),
     /// A kernel-3, stride-1 layer's taps one after another ([`split_taps`]), `[3, C_out, C_in]`;
-    /// on the CPU also as values with the bias, for the products into one buffer
-    /// ([`super::cpu_conv`]).
+    /// on the CPU also as values with the bias (and transformed for Winograd's F(2, 3)), for the
+    /// products into plain buffers ([`super::cpu_conv`]).
     Shifted(Tensor<3>, Option<Arc<CpuTaps>>),
 }
 
@@ -248,9 +248,10 @@ impl ConvLayer {
     /// ([`fold_upsampling_taps`]: it convolves the frames as they are, [`upsample2_conv1d_gemm_cbt`],
     /// 2/3 of the multiply-adds, without the upsampled copy), and a kernel-3, stride-1 layer's taps
     /// one after another ([`split_taps`]: three products on shifted views of the padded frames,
-    /// [`conv3_shifted_cbt`], without building columns). Computing them on every call costs more
-    /// than it saves at one sample (the folded taps: 1.5-1.8x slower), so without this the layer
-    /// upsamples and builds columns. The taps are a copy of the weights as they are now: a layer
+    /// [`conv3_shifted_cbt`], without building columns); on the CPU both also as values for
+    /// Winograd's products ([`super::cpu_conv`]: ¾ and ⅔ of those multiply-adds). Computing them
+    /// on every call costs more than it saves at one sample (the folded taps: 1.5-1.8x slower), so
+    /// without this the layer upsamples and builds columns. The taps are a copy of the weights as they are now: a layer
     /// that is trained or gets other weights afterwards must not have them
     /// (`stylize::Weights::prepare_for_inference` calls this; trainers never do). Other layers
     /// (stride 2, kernel 1): nothing.
@@ -259,7 +260,7 @@ impl ConvLayer {
         self.prepared = if self.upsample && self.reflect_pad == 0 {
             fold_upsampling_taps(&self.conv).map(|folded| {
                 let on_cpu = (folded.device() == Device::flex())
-                    .then(|| CpuBias::new(self.conv.bias.as_ref().map(|b| b.val()), self.conv.weight.dims()[0]))
+                    .then(|| CpuUpsampling::new(split_taps(&self.conv), self.conv.bias.as_ref().map(|b| b.val())))
                     .flatten();
                 PreparedTaps::Upsampling(folded, on_cpu)
             })
@@ -302,10 +303,11 @@ impl ConvLayer {
             (Some(PreparedTaps::Upsampling(folded, on_cpu)), _) if folded.device() == x.device() => {
                 (upsample2_conv1d_prepared(&self.conv, folded, on_cpu.as_deref(), x, fuse), fuse)
             }
-            // Inference: three products on shifted views of the padded frames, no columns.
+            // Inference: products on shifted views of the padded frames, no columns (on the CPU
+            // by Winograd's F(2, 3) where there are enough frames; in wasm then for one clip too).
             (Some(PreparedTaps::Shifted(taps, on_cpu)), Some(reflect))
                 if taps.device() == x.device()
-                    && x.dims()[1] >= SHIFTED_MIN_BATCH
+                    && shifted_pays(on_cpu.is_some(), x.dims()[1], x.dims()[2], reflect)
                     && (!reflect || x.dims()[2] >= 2) =>
             {
                 (conv3_shifted_prepared(&self.conv, taps, on_cpu.as_deref(), x, reflect, fuse), fuse)
