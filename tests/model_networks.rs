@@ -243,8 +243,7 @@ fn upsampling_convolution_with_folded_taps_matches_upsample_then_conv() {
             }
         }
     }
-    // A whole layer's bytes are another's than the folded taps' (the Winograd path ran) and its
-    // numbers the same: below.
+    // A whole prepared layer takes these products on flex: below.
 
     // Other shapes have no folded taps (and the function upsamples, then convolves).
     assert!(fold_upsampling_taps(&xavier_conv1d(4, 4, 3, 2, 1, true, &device())).is_none());
@@ -258,13 +257,17 @@ fn upsampling_convolution_with_folded_taps_matches_upsample_then_conv() {
     };
     // Not prepared: upsampled, then convolved, byte for byte.
     assert_eq!(values(layer.forward(x.clone())), values(expected.clone()));
-    // Prepared: the folded taps, within rounding.
+    // Prepared (on flex): Winograd's three products, within rounding.
     layer.fold_for_inference();
     let inference = layer.forward(x.clone());
     assert_eq!(inference.dims(), [2, 6, 24]);
-    // (Other sums, so some bytes differ: the folded path did run; fixed seed, so not by chance.)
+    // (Other sums, so some bytes differ: the prepared path did run; fixed seed, so not by chance.)
     assert_ne!(values(inference.clone()), values(expected.clone()));
-    assert!(max_abs_diff(inference, expected.clone()) < 1e-5);
+    assert!(max_abs_diff(inference.clone(), expected.clone()) < 1e-5);
+    // ... and they are Winograd's products with the activation, byte for byte.
+    let cpu = CpuUpsampling::new(split_taps(&layer.conv), layer.conv.bias.as_ref().map(|b| b.val())).expect("f32");
+    let winograd = from_cbt(upsample2_conv1d_on_cpu(&cpu, to_cbt(x.clone()), true).expect("f32"));
+    assert_eq!(values(inference), values(winograd));
     // A tracked input (training's graph) never takes the folded taps: the prepared layer gives the
     // unprepared one's bytes there.
     let ad = device().autodiff();
@@ -365,7 +368,11 @@ fn kernel3_convolution_as_shifted_products_matches_the_columns() {
         // the activation of the cut frames (Winograd's products here: within rounding).
         assert!(winograd_pays(SHIFTED_MIN_BATCH, 12, reflect));
         let shifted = from_cbt(conv3_shifted_cbt(&layer.conv, &split_taps(&layer.conv), to_cbt(x.clone()), reflect));
-        assert!(max_abs_diff(inference, leaky_relu(shifted)) < 1e-5, "reflect {reflect}");
+        assert!(max_abs_diff(inference.clone(), leaky_relu(shifted)) < 1e-5, "reflect {reflect}");
+        let taps = split_taps(&layer.conv);
+        let cpu = CpuTaps::new(taps, layer.conv.bias.as_ref().map(|b| b.val())).expect("f32 taps");
+        let winograd = from_cbt(conv3_shifted_on_cpu(&cpu, to_cbt(x.clone()), reflect, true).expect("f32"));
+        assert_eq!(values(inference), values(winograd), "reflect {reflect}: the layer took Winograd's products");
         // Below the batch threshold: the columns, byte for byte.
         let small = x.clone().narrow(0, 0, SHIFTED_MIN_BATCH - 1);
         assert_eq!(values(layer.forward(small)), values(expected.clone().narrow(0, 0, SHIFTED_MIN_BATCH - 1)));
