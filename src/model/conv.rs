@@ -100,21 +100,30 @@ pub fn conv1d_gemm_cbt(conv: &Conv1d, x: Tensor<3>) -> Tensor<3> {
 /// `[2·C_out, C_in·2]`: `[W₀, W₁+W₂]` for the even outputs over `[W₀+W₁, W₂]` for the odd ones
 /// (see [`upsample2_conv1d_gemm_cbt`]); `None` for other shapes.
 pub fn fold_upsampling_taps(conv: &Conv1d) -> Option<Tensor<2>> {
-    let [c_out, c_in, k] = conv.weight.dims();
-    if k != 3 || conv.stride != 1 || gemm_padding(conv) != Some(1) {
-        return None;
-    }
+    upsampling_foldable(conv).then(|| fold_split_taps(split_taps(conv)))
+}
+
+/// Whether `conv` has folded upsampling taps ([`fold_upsampling_taps`]): kernel 3, stride 1, zero
+/// padding 1.
+pub fn upsampling_foldable(conv: &Conv1d) -> bool {
+    conv.weight.dims()[2] == 3 && conv.stride == 1 && gemm_padding(conv) == Some(1)
+}
+
+/// [`fold_upsampling_taps`] from the layer's taps one after another ([`split_taps`],
+/// `[3, C_out, C_in]`), for a caller that needs those taps too.
+pub fn fold_split_taps(taps: Tensor<3>) -> Tensor<2> {
+    let [_, c_out, c_in] = taps.dims();
     // Built on the weight's taps as rows `[3, C_out·C_in]` ([`split_taps`]: one transposing copy,
     // then every slice, sum and stack is of whole rows), turned back to `[C_out, C_in·2]` per
     // parity by one transposing copy and stacked even over odd. (Slicing the taps out of the
     // weight as stored, `narrow` on its last dimension then `cat`, goes element by element in
     // flex: 3x slower.)
-    let taps = split_taps(conv).reshape([3, c_out * c_in]);
+    let taps = taps.reshape([3, c_out * c_in]);
     let tap = |j: usize| taps.clone().narrow(0, j, 1);
     let parity = |a: Tensor<2>, b: Tensor<2>| Tensor::cat(vec![a, b], 0).transpose().reshape([c_out, c_in * 2]);
     let even = parity(tap(0), tap(1) + tap(2));
     let odd = parity(tap(0) + tap(1), tap(2));
-    Some(Tensor::cat(vec![even, odd], 0))
+    Tensor::cat(vec![even, odd], 0)
 }
 
 /// `conv` (kernel 3, stride 1, zero padding 1) on `x` upsampled ×2 by repeating each frame, on the

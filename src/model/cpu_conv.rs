@@ -62,6 +62,19 @@ impl CpuBias {
     }
 }
 
+/// The taps one after another `[3, C_out, C_in]` as values, with `C_out` and `C_in`; `None` where
+/// they are not three taps of `f32`.
+fn tap_values(taps: Tensor<3>) -> Option<(Vec<f32>, usize, usize)> {
+    let [k, c_out, c_in] = taps.dims();
+    let values = taps.into_data().try_to_vec::<f32>().ok().filter(|v| k == 3 && v.len() == 3 * c_out * c_in)?;
+    Some((values, c_out, c_in))
+}
+
+/// `W₀`, `W₁`, `W₂` of [`tap_values`]' values, `len` = `C_out·C_in` each.
+fn three_taps(taps: &[f32], len: usize) -> [&[f32]; 3] {
+    [&taps[..len], &taps[len..2 * len], &taps[2 * len..3 * len]]
+}
+
 /// A kernel-3 layer's taps and bias as values, taken once at load
 /// ([`super::layers::ConvLayer::fold_for_inference`]).
 #[derive(Debug)]
@@ -79,11 +92,9 @@ impl CpuTaps {
     /// From the taps one after another `[3, C_out, C_in]` ([`super::conv::split_taps`]) and the
     /// bias `[C_out]`; `None` where their values are not `f32` or not of those sizes.
     pub fn new(taps: Tensor<3>, bias: Option<Tensor<1>>) -> Option<Arc<Self>> {
-        let [k, c_out, c_in] = taps.dims();
-        let taps = taps.into_data().try_to_vec::<f32>().ok().filter(|v| k == 3 && v.len() == 3 * c_out * c_in)?;
-        let len = c_out * c_in;
-        let (w0, w1, w2) = (&taps[..len], &taps[len..2 * len], &taps[2 * len..]);
-        let mut winograd = Vec::with_capacity(4 * len);
+        let (taps, c_out, c_in) = tap_values(taps)?;
+        let [w0, w1, w2] = three_taps(&taps, c_out * c_in);
+        let mut winograd = Vec::with_capacity(4 * c_out * c_in);
         winograd.extend_from_slice(w0);
         winograd.extend(w0.iter().zip(w1).zip(w2).map(|((a, b), c)| (a + b + c) * 0.5));
         winograd.extend(w0.iter().zip(w1).zip(w2).map(|((a, b), c)| (a - b + c) * 0.5));
@@ -110,11 +121,9 @@ impl CpuUpsampling {
     /// From the layer's taps one after another `[3, C_out, C_in]` ([`super::conv::split_taps`])
     /// and its bias `[C_out]`; `None` where their values are not `f32` or not of those sizes.
     pub fn new(taps: Tensor<3>, bias: Option<Tensor<1>>) -> Option<Arc<Self>> {
-        let [k, c_out, c_in] = taps.dims();
-        let taps = taps.into_data().try_to_vec::<f32>().ok().filter(|v| k == 3 && v.len() == 3 * c_out * c_in)?;
-        let len = c_out * c_in;
-        let (w0, w1, w2) = (&taps[..len], &taps[len..2 * len], &taps[2 * len..]);
-        let mut winograd = Vec::with_capacity(3 * len);
+        let (taps, c_out, c_in) = tap_values(taps)?;
+        let [w0, w1, w2] = three_taps(&taps, c_out * c_in);
+        let mut winograd = Vec::with_capacity(3 * c_out * c_in);
         winograd.extend_from_slice(w0);
         winograd.extend(w0.iter().zip(w1).zip(w2).map(|((a, b), c)| a + b + c));
         winograd.extend_from_slice(w2);

@@ -21,8 +21,8 @@ use burn::prelude::*;
 use std::sync::Arc;
 
 use super::conv::{
-    conv1d_gemm_cbt, conv3_shifted_prepared, fold_upsampling_taps, gemm_padding, shifted_pays, split_taps,
-    upsample2_conv1d_prepared,
+    conv1d_gemm_cbt, conv3_shifted_prepared, fold_split_taps, gemm_padding, shifted_pays, split_taps,
+    upsample2_conv1d_prepared, upsampling_foldable,
 };
 use super::cpu_conv::{CpuTaps, CpuUpsampling};
 
@@ -258,11 +258,13 @@ impl ConvLayer {
     pub fn fold_for_inference(&mut self) {
         let [_, _, k] = self.conv.weight.dims();
         self.prepared = if self.upsample && self.reflect_pad == 0 {
-            fold_upsampling_taps(&self.conv).map(|folded| {
-                let on_cpu = (folded.device() == Device::flex())
-                    .then(|| CpuUpsampling::new(split_taps(&self.conv), self.conv.bias.as_ref().map(|b| b.val())))
+            upsampling_foldable(&self.conv).then(|| {
+                // Split once: the folded taps and the CPU's Winograd taps are both made from them.
+                let taps = split_taps(&self.conv);
+                let on_cpu = (taps.device() == Device::flex())
+                    .then(|| CpuUpsampling::new(taps.clone(), self.conv.bias.as_ref().map(|b| b.val())))
                     .flatten();
-                PreparedTaps::Upsampling(folded, on_cpu)
+                PreparedTaps::Upsampling(fold_split_taps(taps), on_cpu)
             })
         } else if !self.upsample && k == 3 && self.conv.stride == 1 && self.padding().is_some() {
             let taps = split_taps(&self.conv);
