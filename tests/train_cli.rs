@@ -231,6 +231,58 @@ fn stylizer_trains_in_both_settings_and_exports() {
     let _ = std::fs::remove_dir_all(&root);
 }
 
+/// Issue 14, the content-class loss: a stylizer run judged by a content classifier keeps a copy
+/// of it (a resumed run needs nothing else), logs the term, and refuses a judge of the wrong
+/// classes or of other normalisation statistics.
+#[test]
+fn stylizer_with_a_content_judge_trains_resumes_and_refuses_a_wrong_judge() {
+    let root = setup("judged");
+    let ae = root.join("ae");
+    ok(train(&["ae"], &root, &ae, 2, &TINY));
+    let judge_run = root.join("judge");
+    ok(train(&["content-classifier"], &root, &judge_run, 2, &TINY));
+    let judge = judge_run.join("classifier.bin");
+    let small = ["--window", "32", "--batch", "4"];
+    let run = root.join("sup");
+    let mut args = vec!["--content-class", "2", "--content-judge", p(&judge)];
+    args.extend_from_slice(&small);
+    ok(train(&["stylizer", "--ae", p(&ae)], &root, &run, 2, &args));
+    assert_eq!(std::fs::read(run.join("content-judge.bin")).unwrap(), std::fs::read(&judge).unwrap());
+    let config: serde_json::Value = rundir::read_json(&run.join("config.json")).unwrap();
+    assert_eq!(config["train"]["stylizer_weights"]["content_class"], 2.0);
+    assert_eq!(config["content_judge"], p(&judge));
+    // The judge may go away: the run resumes from its copy.
+    std::fs::remove_dir_all(&judge_run).unwrap();
+    ok(train(&["stylizer"], &root, &run, 3, &["--resume"]));
+    let loss = CsvTable::read(&run.join("loss.csv")).unwrap();
+    assert_eq!(steps_of(&loss), [1, 2, 3]);
+    let column = loss.columns.iter().position(|c| c == "content_class").expect("a content_class column");
+    assert!(loss.rows.iter().all(|r| r[column] > 0.0 && r[column].is_finite()), "{:?}", loss.rows);
+
+    // A style classifier is not a content judge.
+    let style_run = root.join("style-classifier");
+    ok(train(&["classifier"], &root, &style_run, 2, &TINY));
+    let mut args = vec!["--content-class", "1", "--content-judge"];
+    let style_judge = style_run.join("classifier.bin");
+    args.push(p(&style_judge));
+    args.extend_from_slice(&small);
+    let o = train(&["stylizer", "--ae", p(&ae)], &root, &root.join("wrong"), 2, &args);
+    assert!(!o.status.success() && stderr(&o).contains("not the 18 content classes"), "{}", stderr(&o));
+    // A judge trained on other statistics (its run's norm.json beside it) is refused.
+    let judge_run = root.join("judge2");
+    ok(train(&["content-classifier"], &root, &judge_run, 2, &TINY));
+    let norm_path = judge_run.join("norm.json");
+    let mut norm: serde_json::Value = rundir::read_json(&norm_path).unwrap();
+    norm["mean"][0] = serde_json::json!(norm["mean"][0].as_f64().unwrap() + 1.0);
+    std::fs::write(&norm_path, serde_json::to_string(&norm).unwrap()).unwrap();
+    let judge = judge_run.join("classifier.bin");
+    let mut args = vec!["--content-class", "1", "--content-judge", p(&judge)];
+    args.extend_from_slice(&small);
+    let o = train(&["stylizer", "--ae", p(&ae)], &root, &root.join("other-norm"), 2, &args);
+    assert!(!o.status.success() && stderr(&o).contains("other normalisation statistics"), "{}", stderr(&o));
+    let _ = std::fs::remove_dir_all(&root);
+}
+
 #[test]
 fn bad_arguments_fail_with_a_clear_message() {
     let root = setup("args");
@@ -248,6 +300,8 @@ fn bad_arguments_fail_with_a_clear_message() {
     let o = train(&["stylizer", "--ae", p(&out)], &root, &out, 2, &["--hsa=-1"]);
     assert!(!o.status.success() && stderr(&o).contains("--hsa -1"), "{}", stderr(&o));
     assert!(!out.exists(), "nothing written on a bad argument");
+    let o = train(&["stylizer", "--ae", p(&out)], &root, &out, 2, &["--content-class", "1"]);
+    assert!(!o.status.success() && stderr(&o).contains("needs --content-judge"), "{}", stderr(&o));
     // The pairings that are judged by the style statistics need them.
     for flag in ["--cross-content", "--cross-set"] {
         let o = train(&["stylizer", "--ae", p(&out)], &root, &out, 2, &[flag]);

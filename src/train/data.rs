@@ -33,6 +33,10 @@ pub struct TrainData {
     /// not): the style sources of the cross-content swaps come from another content
     /// ([`WindowSampler::style_clip_elsewhere`]); `None` for a clip without a content.
     pub contents: Vec<Option<u32>>,
+    /// Each clip's content class as seen ([`content_class_as_seen`]: a mirror's side-specific
+    /// content is the other side's), which the stylizer's content-class loss holds its swaps to;
+    /// `None` for a content without a class.
+    pub content_class: Vec<Option<usize>>,
     /// Each clip's content group's `normal` statistics (an index into `baselines`; `None` when
     /// the group has no `normal` take of the window's length, or the run has no `normal` label):
     /// the cross-set pairs' targets are moved by their difference
@@ -250,6 +254,8 @@ impl TrainData {
         let groups = content_groups(&train, false);
         let groups_across_sets = content_groups(&train, true);
         let content_of = content_ids(&train);
+        let content_class =
+            train.iter().map(|c| c.content.as_deref().and_then(|n| content_class_as_seen(n, c.mirrored))).collect();
         // Only for a run that judges cross-set pairs relative to `normal`; a supervised
         // stylizer's labels are styles (`normal` among them).
         let relative = config.train.stylizer_weights.is_some_and(|w| w.cross_set_relative);
@@ -311,6 +317,7 @@ impl TrainData {
             groups,
             groups_across_sets,
             contents: content_of,
+            content_class,
             baseline_of,
             baselines,
             sampler,

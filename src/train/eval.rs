@@ -263,6 +263,7 @@ pub fn evaluate_stylizer(
             content_paired: Vec::new(),
             style_source: None,
             stats_offset: None,
+            content_classes: Vec::new(),
         };
         let l = stylizer_loss(net, &autoencoder.decoder, &inputs, weights, &mut noise);
         let terms = vec![l.total, l.rec_latent, l.rec_pose, l.cyc_latent, l.cyc_pose, l.kl, l.hsa];

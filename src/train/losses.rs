@@ -2,6 +2,7 @@
 //! the reference's KL terms are `sum / numel` too), so weights compare across widths and lengths.
 
 use std::ops::Range;
+use std::path::PathBuf;
 
 use burn::prelude::*;
 use burn::tensor::activation::log_softmax;
@@ -11,7 +12,7 @@ use super::settings::TrainConfig;
 pub use super::statistics::{StatsOffset, content_shape, style_statistics, style_statistics_moved};
 use crate::model::autoencoder::{MotionAutoencoder, MotionDecoder, ae_input};
 use crate::model::layers::one_hot;
-use crate::model::{NoiseRng, StyleDistribution, Stylizer};
+use crate::model::{NoiseRng, StyleClassifier, StyleDistribution, Stylizer};
 
 /// Smooth-L1 (Huber with β = 1, PyTorch's `SmoothL1Loss`), mean over elements:
 /// `0.5 d²` where `|d| < 1`, `|d| − 0.5` elsewhere. Written as `0.5 q² + (|d| − q)` with
@@ -184,6 +185,12 @@ pub struct StylizerWeights {
     /// own set's `normal`) and not its set's capture. `false`: the partner's raw statistics.
     #[serde(default)]
     pub cross_set_relative: bool,
+    /// `λ_class` of the content-class loss (not in the paper: 0 there): every swap `D(zᵗ)` is
+    /// read by a frozen content classifier (the run's `content-judge.bin`), whose cross-entropy
+    /// against the content class of the swap's content clip is added, so a style from another
+    /// content or data set must keep what the content is.
+    #[serde(default)]
+    pub content_class: f32,
 }
 
 /// What a stylizer run adds to the paper's recipe: losses (their weights; 0: not used), the
@@ -192,7 +199,7 @@ pub struct StylizerWeights {
 /// [`StylizerExtras::validate`] checks them.
 ///
 /// [`ModelConfig::content_posture`]: crate::model::ModelConfig::content_posture
-#[derive(clap::Args, Clone, Copy, Debug, Default, PartialEq)]
+#[derive(clap::Args, Clone, Debug, Default, PartialEq)]
 pub struct StylizerExtras {
     /// Weight of the style-statistics loss (not in the paper; new runs): every other pair of
     /// batch rows is two takes of one content in different styles, and the swap of one's
@@ -232,6 +239,17 @@ pub struct StylizerExtras {
     /// it (--from), the map starts at zero.
     #[arg(long)]
     pub content_posture: bool,
+    /// Weight of the content-class loss (not in the paper; new runs, with --content-judge):
+    /// every swap (a content with another clip's style) is read by a frozen content classifier,
+    /// and its cross-entropy against the content's class is added. 0: not used.
+    #[arg(long, default_value_t = 0.0, value_name = "WEIGHT")]
+    pub content_class: f32,
+    /// The content classifier that judges the swaps for --content-class (a classifier.bin of
+    /// `train content-classifier`; copied into the run folder as content-judge.bin). Train it
+    /// apart from the one `eval` measures with (another seed or width), so that the evaluation
+    /// does not read its own judge.
+    #[arg(long, value_name = "FILE")]
+    pub content_judge: Option<PathBuf>,
 }
 
 impl StylizerExtras {
@@ -242,6 +260,7 @@ impl StylizerExtras {
             ("--style-stats", self.style_stats),
             ("--content-shape", self.content_shape),
             ("--hsa", self.hsa.unwrap_or(0.0)),
+            ("--content-class", self.content_class),
         ] {
             if !(w.is_finite() && w >= 0.0) {
                 return Err(format!("{flag} {w}: the weight must be 0 or more"));
@@ -256,7 +275,13 @@ impl StylizerExtras {
                 ));
             }
         }
-        Ok(())
+        match (self.content_class > 0.0, &self.content_judge) {
+            (true, None) => {
+                Err("--content-class needs --content-judge FILE (the content classifier that judges the swaps)".into())
+            }
+            (false, Some(_)) => Err("--content-judge is used only with --content-class above 0".into()),
+            _ => Ok(()),
+        }
     }
 
     /// Whether a run departs from the paper's recipe (its [`StylizerWeights`] are then written
@@ -270,6 +295,7 @@ impl StylizerExtras {
             || self.cross_set
             || self.cross_set_relative
             || self.content_posture
+            || self.content_class > 0.0
     }
 }
 
@@ -285,6 +311,7 @@ impl StylizerWeights {
         cross_content: false,
         cross_set: false,
         cross_set_relative: false,
+        content_class: 0.0,
     };
     /// Paper, unsupervised: (hsa, cyc, kl) = (0.1, 1, 0.01).
     pub const UNSUPERVISED: Self = Self {
@@ -297,6 +324,7 @@ impl StylizerWeights {
         cross_content: false,
         cross_set: false,
         cross_set_relative: false,
+        content_class: 0.0,
     };
 
     /// The paper's weights for the given mode.
@@ -327,6 +355,10 @@ pub struct StylizerInputs {
     pub style_source: Option<Vec<usize>>,
     /// Offsets of the content-paired rows' target statistics (`None`: none).
     pub stats_offset: Option<StatsOffset>,
+    /// The content class of each row's clips ([`crate::dataset::CONTENTS`]; `None`: a content
+    /// without a class), which the content-class loss holds the row's swap to. Empty: no such
+    /// loss.
+    pub content_classes: Vec<Option<usize>>,
 }
 
 /// The stylizer's loss terms for one batch (unweighted, plus the weighted total).
@@ -350,6 +382,9 @@ pub struct StylizerLosses {
     pub style_stats: Tensor<1>,
     /// `L_shape`: [`content_shape`] of every swap `D(zᵗ)` against `P²` (0 when its weight is 0).
     pub content_shape: Tensor<1>,
+    /// `L_class`: the content judge's cross-entropy on the swaps `D(zᵗ)` of the rows with a
+    /// content class, against that class (0 without a judge, classes or weight).
+    pub content_class: Tensor<1>,
 }
 
 impl StylizerInputs {
@@ -370,6 +405,7 @@ impl StylizerInputs {
                 mean: o.mean.clone().narrow(0, rows.start, rows.len()),
                 spread: o.spread.clone().narrow(0, rows.start, rows.len()),
             }),
+            content_classes: self.content_classes.get(rows).map(<[_]>::to_vec).unwrap_or_default(),
         }
     }
 }
@@ -442,15 +478,17 @@ pub fn stylizer_loss(
     noise: &mut NoiseRng,
 ) -> StylizerLosses {
     let eps = StyleNoise::draw(noise, inputs.latent1.dims()[0], net.style_encoder.style_dim, &inputs.latent1.device());
-    stylizer_loss_drawn(net, decoder, inputs, weights, eps, LossShares::WHOLE)
+    stylizer_loss_drawn(net, decoder, None, inputs, weights, eps, LossShares::WHOLE)
 }
 
 /// [`stylizer_loss`] with its reparameterisation noise drawn beforehand, and its total weighted
 /// as `shares` of a larger batch (a row group of [`super::parallel`]; the terms it reports are
-/// the group's own means).
+/// the group's own means), and `judge` the frozen content classifier of the content-class loss
+/// (`None`: no such loss).
 pub fn stylizer_loss_drawn(
     net: &Stylizer,
     decoder: &MotionDecoder,
+    judge: Option<&StyleClassifier>,
     inputs: &StylizerInputs,
     weights: &StylizerWeights,
     eps: StyleNoise,
@@ -520,7 +558,15 @@ pub fn stylizer_loss_drawn(
     // extra losses judge: every row for the content-shape loss, else the content-paired rows.
     let paired =
         (weights.style_stats > 0.0 && !inputs.content_paired.is_empty()).then(|| index(inputs.content_paired.clone()));
-    let shape = weights.content_shape > 0.0;
+    // The content-class loss judges the rows with a content class.
+    let classed: Vec<(usize, usize)> = match judge {
+        Some(_) if weights.content_class > 0.0 => {
+            inputs.content_classes.iter().enumerate().filter_map(|(r, c)| c.map(|c| (r, c))).collect()
+        }
+        _ => Vec::new(),
+    };
+    // Every swap is decoded when a loss judges them all.
+    let shape = weights.content_shape > 0.0 || !classed.is_empty();
     let mut decoded = vec![r1.clone(), r2.clone(), rr2.clone(), rr3.clone()];
     let swaps = match (&paired, shape) {
         (_, true) => batch,
@@ -544,8 +590,16 @@ pub fn stylizer_loss_drawn(
         }
         _ => Tensor::zeros([1], &device),
     };
-    let content_shape = match (&swap_poses, shape) {
+    let content_shape = match (&swap_poses, weights.content_shape > 0.0) {
         (Some(p), true) => self::content_shape(p.clone(), inputs.motion2.clone()),
+        _ => Tensor::zeros([1], &device),
+    };
+    let content_class = match (&swap_poses, judge) {
+        (Some(p), Some(judge)) if !classed.is_empty() => {
+            let rows = index(classed.iter().map(|&(r, _)| r).collect());
+            let classes: Vec<usize> = classed.iter().map(|&(_, c)| c).collect();
+            cross_entropy(judge.forward(ae_input(p.clone().select(0, rows))).logits, &classes)
+        }
         _ => Tensor::zeros([1], &device),
     };
     let rec_latent = smooth_l1(r1, z1) + smooth_l1(r2, z2.clone());
@@ -565,8 +619,20 @@ pub fn stylizer_loss_drawn(
         + kl.clone() * (weights.kl * share)
         + hsa.clone() * (weights.hsa * share)
         + style_stats.clone() * (weights.style_stats * paired)
-        + content_shape.clone() * (weights.content_shape * share);
-    StylizerLosses { total, rec_latent, rec_pose, cyc_latent, cyc_pose, kl, hsa, style_stats, content_shape }
+        + content_shape.clone() * (weights.content_shape * share)
+        + content_class.clone() * (weights.content_class * share);
+    StylizerLosses {
+        total,
+        rec_latent,
+        rec_pose,
+        cyc_latent,
+        cyc_pose,
+        kl,
+        hsa,
+        style_stats,
+        content_shape,
+        content_class,
+    }
 }
 
 #[cfg(test)]
@@ -582,6 +648,14 @@ mod tests {
         assert!(negative.validate().is_err_and(|e| e.starts_with("--content-shape -1")));
         let nan = StylizerExtras { hsa: Some(f32::NAN), ..Default::default() };
         assert!(nan.validate().is_err_and(|e| e.starts_with("--hsa NaN")));
+        let unjudged = StylizerExtras { content_class: 1.0, ..Default::default() };
+        assert!(unjudged.validate().is_err_and(|e| e.starts_with("--content-class needs --content-judge")));
+        let idle = StylizerExtras { content_judge: Some("judge.bin".into()), ..Default::default() };
+        assert!(idle.validate().is_err_and(|e| e.starts_with("--content-judge is used only with")));
+        let judged =
+            StylizerExtras { content_class: 1.0, content_judge: Some("judge.bin".into()), ..Default::default() };
+        assert_eq!(judged.validate(), Ok(()));
+        assert!(judged.any());
         let cross = StylizerExtras { cross_set: true, ..Default::default() };
         assert!(cross.validate().is_err_and(|e| e.starts_with("--cross-set needs --style-stats above 0")));
     }

@@ -68,7 +68,7 @@ pub mod trainer;
 
 use crate::model::device::DeviceName;
 use crate::stylize::Setting;
-use anyhow::Context;
+use anyhow::{Context, ensure};
 use burn::prelude::*;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -207,6 +207,19 @@ pub fn train(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<TrainSummary>
                 .context("the autoencoder checkpoint does not fit the run's configuration")?;
             let supervised = model.supervised;
             let mut trainer = StylizerTrainer::new(model, train, nets.autoencoder, &device, seed);
+            if let Some(judge) = &run.content_judge {
+                // Its features must be normalised as the stylizer's (a new run's judge with its
+                // run's statistics beside it; a resumed run's was checked when it started).
+                if let Some(norm) = &judge.norm {
+                    ensure!(
+                        *norm == data.norm,
+                        "--content-judge: the content classifier was trained on other normalisation statistics \
+                         than the stylizer's (its run's norm.json differs)"
+                    );
+                }
+                trainer.set_content_judge(&judge.bytes, &device).context("--content-judge")?;
+                say("the swaps are judged by the content classifier (content-class loss)".to_string());
+            }
             if let Some(dir) = from {
                 let setting = if supervised { Setting::Supervised } else { Setting::Unsupervised };
                 let m = finetune::load_model(dir, Some(setting))?;

@@ -7,11 +7,12 @@
 //! | `norm.json` | the normalisation statistics the run trains on |
 //! | `checkpoint.bin` | latest checkpoint: [`CheckpointMeta`] + burnpack bytes of the networks (f32) |
 //! | `ae.bin` | stylizer runs: the frozen autoencoder + regressor checkpoint it trains on (a copy) |
+//! | `content-judge.bin` | stylizer runs with `--content-class`: the frozen content classifier (a copy) |
 //! | `loss.csv` | one row per step: step, elapsed_s, every loss term of the step report, lr |
 //! | `eval.csv` | one row per evaluation: step, elapsed_s, held-out metrics |
 //!
 //! Files that must never be seen half-written (`checkpoint.bin`, `run.json`, `config.json`,
-//! `norm.json`, `ae.bin`) are written to a temporary name in the same folder, synced, then renamed
+//! `norm.json`, `ae.bin`, `content-judge.bin`) are written to a temporary name in the same folder, synced, then renamed
 //! over the old one.
 
 use anyhow::{Context, bail, ensure};
@@ -39,6 +40,7 @@ pub const RUN_LOG: &str = "run.json";
 pub const NORM: &str = "norm.json";
 pub const CHECKPOINT: &str = "checkpoint.bin";
 pub const AE_COPY: &str = "ae.bin";
+pub const CONTENT_JUDGE: &str = "content-judge.bin";
 /// Adam's state at the checkpoint's step: the step (u64 LE), then the trainer's optimizer bytes.
 pub const OPTIMIZER: &str = "optimizer.bin";
 pub const LOSS_CSV: &str = "loss.csv";
@@ -78,6 +80,10 @@ pub struct RunConfig {
     /// Fine-tuning: the weights folder the networks started from (as given).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub from: Option<String>,
+    /// Stylizer runs with the content-class loss: the content classifier copied in as
+    /// `content-judge.bin` (as given).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub content_judge: Option<String>,
 }
 
 /// What a run on a folder of the user's files fixes at its start.
@@ -215,7 +221,7 @@ fn ae_source(path: &Path) -> anyhow::Result<(RunConfig, Checkpoint, NormStats)> 
 }
 
 /// How a stylizer run draws its batches (recorded in `config.json`).
-fn stylizer_sampler(extra: StylizerExtras) -> String {
+fn stylizer_sampler(extra: &StylizerExtras) -> String {
     let mut s = "style-balanced: a style uniformly, a clip of it uniformly, two windows of that clip at independent \
                  uniform offsets"
         .to_string();
@@ -247,7 +253,7 @@ fn stylizer_sampler(extra: StylizerExtras) -> String {
 
 /// A stylizer run's optimisation settings: the defaults, with the paper's loss weights and the
 /// extra losses' weights when they are used.
-fn stylizer_train(supervised: bool, extra: StylizerExtras) -> TrainConfig {
+fn stylizer_train(supervised: bool, extra: &StylizerExtras) -> TrainConfig {
     let paper = super::losses::StylizerWeights::paper(supervised);
     let weights = extra.any().then_some(super::losses::StylizerWeights {
         style_stats: extra.style_stats,
@@ -255,6 +261,7 @@ fn stylizer_train(supervised: bool, extra: StylizerExtras) -> TrainConfig {
         cross_content: extra.cross_content,
         cross_set: extra.cross_set,
         cross_set_relative: extra.cross_set_relative,
+        content_class: extra.content_class,
         hsa: extra.hsa.unwrap_or(paper.hsa),
         ..paper
     });
@@ -271,6 +278,27 @@ pub struct OpenRun {
     /// The statistics the run trains on; `None` for a new `ae` or `classifier` run (computed from
     /// the training clips).
     pub norm: Option<NormStats>,
+    /// Stylizer runs with the content-class loss: the content classifier that judges the swaps.
+    pub content_judge: Option<ContentJudge>,
+}
+
+/// The content classifier of a stylizer run's content-class loss.
+pub struct ContentJudge {
+    /// Its file's bytes ([`crate::model::weights::save_classifier`]).
+    pub bytes: Vec<u8>,
+    /// The statistics it was trained on, when its run folder holds them (a new run's judge must
+    /// read features normalised as the stylizer's).
+    pub norm: Option<NormStats>,
+}
+
+impl ContentJudge {
+    /// A classifier file and, when beside it, its run's `norm.json`.
+    fn read(path: &Path) -> anyhow::Result<ContentJudge> {
+        let bytes = std::fs::read(path).with_context(|| format!("--content-judge {}: cannot read", path.display()))?;
+        let norm_path = path.parent().unwrap_or(Path::new(".")).join(NORM);
+        let norm = norm_path.is_file().then(|| read_json(&norm_path)).transpose()?;
+        Ok(ContentJudge { bytes, norm })
+    }
 }
 
 impl OpenRun {
@@ -313,7 +341,15 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
         let resume_from = if ckpt_path.exists() { Some(Checkpoint::read(&ckpt_path)?) } else { None };
         let ae = if config.stage == "stylizer" { Some(Checkpoint::read(&out.join(AE_COPY))?) } else { None };
         let norm: NormStats = read_json(&out.join(NORM))?;
-        return Ok(OpenRun { config, resume_from, ae, norm: Some(norm) });
+        let judged = config.train.stylizer_weights.is_some_and(|w| w.content_class > 0.0);
+        let content_judge = judged
+            .then(|| -> anyhow::Result<_> {
+                let bytes = std::fs::read(out.join(CONTENT_JUDGE))
+                    .with_context(|| format!("--resume: {} holds no {CONTENT_JUDGE}", out.display()))?;
+                Ok(ContentJudge { bytes, norm: None })
+            })
+            .transpose()?;
+        return Ok(OpenRun { config, resume_from, ae, norm: Some(norm), content_judge });
     }
     ensure!(
         !is_nonempty_dir(out),
@@ -371,6 +407,7 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
         heldout_skipped: 0,
         folder,
         from: opts.from.as_ref().map(|p| p.display().to_string()),
+        content_judge: None,
     };
     let start_norm = from.map(|f| f.norm);
     Ok(match stage {
@@ -382,6 +419,7 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
             resume_from: None,
             ae: None,
             norm: start_norm,
+            content_judge: None,
         },
         Stage::Classifier => OpenRun {
             config: RunConfig {
@@ -391,6 +429,7 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
             resume_from: None,
             ae: None,
             norm: start_norm,
+            content_judge: None,
         },
         Stage::ContentClassifier => OpenRun {
             config: RunConfig {
@@ -402,6 +441,7 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
             resume_from: None,
             ae: None,
             norm: None,
+            content_judge: None,
         },
         Stage::Stylizer { ae: None, supervised, extra } if opts.from.is_some() => {
             // Fine-tuning a stylizer alone: the frozen autoencoder and regressor are the weights
@@ -424,11 +464,13 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
                 supervised: Some(*supervised),
                 model: base.model.clone().with_supervised(*supervised).with_content_posture(extra.content_posture),
                 ae_run: Some(format!("{} (its autoencoder and regressor)", dir.display())),
-                sampler: stylizer_sampler(*extra),
-                train: stylizer_train(*supervised, *extra),
+                sampler: stylizer_sampler(extra),
+                train: stylizer_train(*supervised, extra),
+                content_judge: extra.content_judge.as_ref().map(|p| p.display().to_string()),
                 ..base
             };
-            OpenRun { config, resume_from: None, ae: Some(ae_ckpt), norm: Some(norm) }
+            let content_judge = extra.content_judge.as_deref().map(ContentJudge::read).transpose()?;
+            OpenRun { config, resume_from: None, ae: Some(ae_ckpt), norm: Some(norm), content_judge }
         }
         Stage::Stylizer { ae, supervised, extra } => {
             let ae = ae.as_ref().context("the stylizer stage needs --ae DIR (an `ae` run), or --from WEIGHTS")?;
@@ -461,11 +503,13 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
                     .with_content_posture(extra.content_posture),
                 ae_run: Some(ae.display().to_string()),
                 ae_step: Some(ae_ckpt.meta.step),
-                sampler: stylizer_sampler(*extra),
-                train: stylizer_train(*supervised, *extra),
+                sampler: stylizer_sampler(extra),
+                train: stylizer_train(*supervised, extra),
+                content_judge: extra.content_judge.as_ref().map(|p| p.display().to_string()),
                 ..base
             };
-            OpenRun { config, resume_from: None, ae: Some(ae_ckpt), norm: Some(norm) }
+            let content_judge = extra.content_judge.as_deref().map(ContentJudge::read).transpose()?;
+            OpenRun { config, resume_from: None, ae: Some(ae_ckpt), norm: Some(norm), content_judge }
         }
     })
 }
@@ -487,6 +531,9 @@ pub fn begin_segment(
         write_json(&out.join(NORM), norm)?;
         if let Some(ae) = &run.ae {
             write_atomic(&out.join(AE_COPY), &ae.to_bytes()?)?;
+        }
+        if let Some(judge) = &run.content_judge {
+            write_atomic(&out.join(CONTENT_JUDGE), &judge.bytes)?;
         }
     }
     write_json(&out.join(CONFIG), &run.config)?;

@@ -17,11 +17,13 @@ use super::rundir::{load_module, module_bytes};
 use super::sampler::{SamplerRng, batch_tensor};
 use super::settings::TrainConfig;
 use super::trainer::{PhaseTimes, Trainer, step_report};
+use crate::dataset::CONTENTS;
 use crate::features::DIM;
 use crate::model::autoencoder::ae_input;
 use crate::model::init::seeded_xavier;
 use crate::model::layers::one_hot;
-use crate::model::{ModelConfig, ModelError, MotionAutoencoder, NoiseRng, Stylizer, check_features};
+use crate::model::weights::load_classifier;
+use crate::model::{ModelConfig, ModelError, MotionAutoencoder, NoiseRng, StyleClassifier, Stylizer, check_features};
 use std::time::Instant;
 
 /// A stylizer batch: per row, two clips of the same sequence and (supervised) its style label.
@@ -42,13 +44,23 @@ pub struct StylizerBatch {
     /// Offsets of the content-paired rows' target statistics (`None`: the partners' own;
     /// [`StylizerWeights::cross_set_relative`]).
     pub stats_offset: Option<StatsOffset>,
+    /// Each row's content class (empty: no content-class loss; [`StylizerInputs::content_classes`]).
+    pub content_classes: Vec<Option<usize>>,
 }
 
 impl StylizerBatch {
     /// The paper's batch: two clips of one sequence per row and their labels (`None`:
     /// unsupervised), no content-paired rows (so none of the pair losses' extras).
     pub fn unpaired(motion1: Tensor<3>, motion2: Tensor<3>, labels: Option<Vec<usize>>) -> Self {
-        StylizerBatch { motion1, motion2, labels, content_paired: Vec::new(), style_source: None, stats_offset: None }
+        StylizerBatch {
+            motion1,
+            motion2,
+            labels,
+            content_paired: Vec::new(),
+            style_source: None,
+            stats_offset: None,
+            content_classes: Vec::new(),
+        }
     }
 }
 
@@ -67,6 +79,8 @@ step_report! {
         pub style_stats,
         /// The content-shape loss of the swaps (0 without it).
         pub content_shape,
+        /// The content judge's cross-entropy on the swaps (0 without it).
+        pub content_class,
         /// Gradient norms before clipping: content + style encoders, generator.
         pub encoders_grad_norm,
         pub generator_grad_norm,
@@ -87,6 +101,9 @@ pub struct StylizerTrainer {
     pub autoencoder: MotionAutoencoder,
     /// On the autodiff device.
     pub net: Stylizer,
+    /// The frozen content classifier of the content-class loss
+    /// ([`StylizerWeights::content_class`]), on the autodiff device.
+    content_judge: Option<StyleClassifier>,
     optim: ModuleOptimizer,
     noise: NoiseRng,
     device: Device,
@@ -116,11 +133,31 @@ impl StylizerTrainer {
             weights,
             autoencoder,
             net,
+            content_judge: None,
             optim: adam(),
             noise: NoiseRng::new(seed ^ NOISE_SALT),
             device,
             phases: None,
         }
+    }
+
+    /// Sets the content classifier of the content-class loss from its file's bytes
+    /// ([`save_classifier`](crate::model::weights::save_classifier)); frozen, on the training
+    /// device (`device`: its plain side, as given to [`StylizerTrainer::new`]). It must classify
+    /// [`CONTENTS`]' classes.
+    pub fn set_content_judge(&mut self, bytes: &[u8], device: &Device) -> Result<(), ModelError> {
+        let (config, judge) = load_classifier(bytes, &Device::flex())?;
+        if config.num_styles != CONTENTS.len() {
+            return Err(ModelError::Label(format!(
+                "the content judge classifies {} classes, not the {} content classes (a style classifier?)",
+                config.num_styles,
+                CONTENTS.len()
+            )));
+        }
+        // Read on flex (the file is f16), then moved: not every device has f16 tensors.
+        let judge = if *device == Device::flex() { judge } else { judge.to_device(device) };
+        self.content_judge = Some(judge.train().freeze());
+        Ok(())
     }
 
     /// The training device (autodiff).
@@ -181,6 +218,13 @@ impl StylizerTrainer {
             let got = o.mean.dims()[0];
             return Err(ModelError::BatchSize { what: "statistics offsets ([B, 260] each)", expected: b, got });
         }
+        if !batch.content_classes.is_empty() && batch.content_classes.len() != b {
+            let got = batch.content_classes.len();
+            return Err(ModelError::BatchSize { what: "content classes (one a row)", expected: b, got });
+        }
+        if let Some(bad) = batch.content_classes.iter().flatten().find(|&&c| c >= CONTENTS.len()) {
+            return Err(ModelError::Label(format!("content class {bad} out of range {}", CONTENTS.len())));
+        }
         if batch.motion2.dims() != [b, DIM, t] {
             let got = batch.motion2.dims()[0];
             return Err(ModelError::BatchSize { what: "clip 2 (same shape as clip 1)", expected: b, got });
@@ -213,6 +257,7 @@ impl StylizerTrainer {
                 mean: o.mean.clone().to_device(&self.device).autodiff(),
                 spread: o.spread.clone().to_device(&self.device).autodiff(),
             }),
+            content_classes: batch.content_classes.clone(),
         };
         let eps = StyleNoise::draw(&mut self.noise, b, self.net.style_encoder.style_dim, &self.device);
         // The batch's row groups side by side on the CPU's threads (`super::parallel`), each its
@@ -226,10 +271,12 @@ impl StylizerTrainer {
             })
             .collect();
         let (net, decoder, weights) = (&self.net, &self.autoencoder.decoder, &self.weights);
+        let judge = self.content_judge.as_ref();
         let replicas: Vec<Replica<Stylizer>> = groups.iter().map(|_| Replica::of(net)).collect();
         let losses = map_parallel(groups.len(), |i| {
             let group = inputs.rows(groups[i].clone());
-            stylizer_loss_drawn(&replicas[i].module, decoder, &group, weights, eps.rows(groups[i].clone()), shares[i])
+            let eps = eps.rows(groups[i].clone());
+            stylizer_loss_drawn(&replicas[i].module, decoder, judge, &group, weights, eps, shares[i])
         });
 
         let t1 = Instant::now();
@@ -249,7 +296,7 @@ impl StylizerTrainer {
         let t3 = Instant::now();
 
         // The batch's terms: each group's means weighted by its shares (the totals carry theirs).
-        let [loss, rec_latent, rec_pose, cyc_latent, cyc_pose, kl, hsa, style_stats, content_shape] =
+        let [loss, rec_latent, rec_pose, cyc_latent, cyc_pose, kl, hsa, style_stats, content_shape, content_class] =
             weighted_terms(shares.iter().zip(losses).map(|(&LossShares { rows: r, paired }, l)| {
                 let values = [
                     l.total,
@@ -261,8 +308,9 @@ impl StylizerTrainer {
                     l.hsa,
                     l.style_stats,
                     l.content_shape,
+                    l.content_class,
                 ];
-                (values, [1.0, r, r, r, r, r, r, paired, r])
+                (values, [1.0, r, r, r, r, r, r, paired, r, r])
             }));
         self.net = self.optim.step(self.train.lr, self.net.clone(), g);
         if let Some(p) = &mut self.phases {
@@ -278,6 +326,7 @@ impl StylizerTrainer {
             hsa,
             style_stats,
             content_shape,
+            content_class,
             encoders_grad_norm,
             generator_grad_norm,
         })
@@ -364,6 +413,10 @@ impl Trainer for StylizerTrainer {
             content_paired,
             style_source: cross.then_some(source),
             stats_offset: relative.then(|| stats_offsets(&offsets, data.batch, &data.device)),
+            content_classes: match self.content_judge {
+                Some(_) => pairs.iter().map(|p| data.content_class[p.0.clip]).collect(),
+                None => Vec::new(),
+            },
         };
         Ok(self.step(&batch)?)
     }
