@@ -306,7 +306,7 @@ fn cross_content_style_sources_change_the_swaps_and_split_like_the_batch() {
 /// classifier reads every swap of a row with a content class; its cross-entropy adds to the total
 /// at its weight, rows without a class are left out, row groups split it like the whole batch,
 /// its gradient reaches the stylizer (steps with it lower it), the judge itself does not move,
-/// and a judge of the wrong classes is refused.
+/// and a judge of the wrong classes is refused; likewise the style judge of the style-class loss.
 #[test]
 fn content_class_loss_judges_the_swaps_and_trains_the_stylizer() {
     use motion_stylizer::dataset::CONTENTS;
@@ -368,6 +368,38 @@ fn content_class_loss_judges_the_swaps_and_trains_the_stylizer() {
         with < first - 0.1 && with < without - 0.1,
         "after 11 steps: {first} -> {with} with the loss, {without} without"
     );
+    // The style judge (the style-class loss): every swap against its target label, added at its
+    // weight beside the content judge's term; the run's labels only, supervised runs only.
+    let style_judge = save_classifier(&cfg, seeded_xavier(StyleClassifier::new(&cfg, &dev), 13)).unwrap();
+    let both = |style_weight: f32| {
+        let ae = seeded_xavier(MotionAutoencoder::new(&cfg, &dev), 3);
+        let weights = motion_stylizer::train::StylizerWeights {
+            content_class: 2.0,
+            style_class: style_weight,
+            ..motion_stylizer::train::StylizerWeights::paper(true)
+        };
+        let train = TrainConfig { stylizer_weights: Some(weights), ..TrainConfig::default() };
+        let mut trainer = StylizerTrainer::new(cfg.clone(), train, ae, &dev, 4);
+        trainer.set_content_judge(&judge, &dev).unwrap();
+        trainer.set_style_judge(&style_judge, &dev).unwrap();
+        trainer.step(&batch).unwrap()
+    };
+    let (plain, judged) = (both(0.0), both(3.0));
+    assert_eq!(plain.style_class, 0.0);
+    assert!(judged.style_class > 0.5 && judged.content_class == on[0].content_class, "{judged:?}");
+    let added = judged.loss - plain.loss;
+    assert!((added - 3.0 * judged.style_class).abs() < 1e-4 * judged.loss, "{added} vs 3 × {}", judged.style_class);
+    {
+        let ae = seeded_xavier(MotionAutoencoder::new(&cfg, &dev), 3);
+        let mut trainer = StylizerTrainer::new(cfg.clone(), TrainConfig::default(), ae, &dev, 4);
+        let err = trainer.set_style_judge(&judge, &dev).unwrap_err().to_string();
+        assert!(err.contains("not the run's 3 style labels"), "{err}");
+        let unsup = motion_stylizer::model::ModelConfig { supervised: false, ..cfg.clone() };
+        let ae = seeded_xavier(MotionAutoencoder::new(&unsup, &dev), 3);
+        let mut trainer = StylizerTrainer::new(unsup, TrainConfig::default(), ae, &dev, 4);
+        let err = trainer.set_style_judge(&style_judge, &dev).unwrap_err().to_string();
+        assert!(err.contains("needs a supervised run"), "{err}");
+    }
     // The wrong judge: a classifier of 3 classes (a style classifier) is refused.
     let style_judge = save_classifier(&cfg, seeded_xavier(StyleClassifier::new(&cfg, &dev), 11)).unwrap();
     let ae = seeded_xavier(MotionAutoencoder::new(&cfg, &dev), 3);

@@ -231,43 +231,55 @@ fn stylizer_trains_in_both_settings_and_exports() {
     let _ = std::fs::remove_dir_all(&root);
 }
 
-/// Issue 14, the content-class loss: a stylizer run judged by a content classifier keeps a copy
-/// of it (a resumed run needs nothing else), logs the term, and refuses a judge of the wrong
-/// classes or of other normalisation statistics.
+/// Issue 14, the content- and style-class losses: a stylizer run judged by a content and a style
+/// classifier keeps a copy of each (a resumed run needs nothing else), logs both terms, and
+/// refuses a judge of the wrong classes or of other normalisation statistics.
 #[test]
-fn stylizer_with_a_content_judge_trains_resumes_and_refuses_a_wrong_judge() {
+fn stylizer_with_judges_trains_resumes_and_refuses_a_wrong_judge() {
     let root = setup("judged");
     let ae = root.join("ae");
     ok(train(&["ae"], &root, &ae, 2, &TINY));
     let judge_run = root.join("judge");
     ok(train(&["content-classifier"], &root, &judge_run, 2, &TINY));
-    let judge = judge_run.join("classifier.bin");
+    let style_run = root.join("style-classifier");
+    ok(train(&["classifier"], &root, &style_run, 2, &TINY));
+    let (judge, style_judge) = (judge_run.join("classifier.bin"), style_run.join("classifier.bin"));
     let small = ["--window", "32", "--batch", "4"];
     let run = root.join("sup");
     let mut args = vec!["--content-class", "2", "--content-judge", p(&judge)];
+    args.extend_from_slice(&["--style-class", "0.5", "--style-judge", p(&style_judge)]);
     args.extend_from_slice(&small);
     ok(train(&["stylizer", "--ae", p(&ae)], &root, &run, 2, &args));
     assert_eq!(std::fs::read(run.join("content-judge.bin")).unwrap(), std::fs::read(&judge).unwrap());
+    assert_eq!(std::fs::read(run.join("style-judge.bin")).unwrap(), std::fs::read(&style_judge).unwrap());
     let config: serde_json::Value = rundir::read_json(&run.join("config.json")).unwrap();
     assert_eq!(config["train"]["stylizer_weights"]["content_class"], 2.0);
+    assert_eq!(config["train"]["stylizer_weights"]["style_class"], 0.5);
     assert_eq!(config["content_judge"], p(&judge));
-    // The judge may go away: the run resumes from its copy.
+    assert_eq!(config["style_judge"], p(&style_judge));
+    // A style classifier is not a content judge, nor a content classifier a style judge.
+    for (flag, file, refusal) in [
+        ("--content-judge", &style_judge, "not the 18 content classes"),
+        ("--style-judge", &judge, "not the run's 16 style labels"),
+    ] {
+        let weight = if flag == "--content-judge" { "--content-class" } else { "--style-class" };
+        let mut args = vec![weight, "1", flag, p(file)];
+        args.extend_from_slice(&small);
+        let o = train(&["stylizer", "--ae", p(&ae)], &root, &root.join("wrong"), 2, &args);
+        assert!(!o.status.success() && stderr(&o).contains(refusal), "{}", stderr(&o));
+        assert!(!root.join("wrong").exists(), "nothing written for a refused judge");
+    }
+    // The judges may go away: the run resumes from its copies.
     std::fs::remove_dir_all(&judge_run).unwrap();
+    std::fs::remove_dir_all(&style_run).unwrap();
     ok(train(&["stylizer"], &root, &run, 3, &["--resume"]));
     let loss = CsvTable::read(&run.join("loss.csv")).unwrap();
     assert_eq!(steps_of(&loss), [1, 2, 3]);
-    let column = loss.columns.iter().position(|c| c == "content_class").expect("a content_class column");
-    assert!(loss.rows.iter().all(|r| r[column] > 0.0 && r[column].is_finite()), "{:?}", loss.rows);
+    for name in ["content_class", "style_class"] {
+        let column = loss.columns.iter().position(|c| c == name).expect(name);
+        assert!(loss.rows.iter().all(|r| r[column] > 0.0 && r[column].is_finite()), "{name}: {:?}", loss.rows);
+    }
 
-    // A style classifier is not a content judge.
-    let style_run = root.join("style-classifier");
-    ok(train(&["classifier"], &root, &style_run, 2, &TINY));
-    let mut args = vec!["--content-class", "1", "--content-judge"];
-    let style_judge = style_run.join("classifier.bin");
-    args.push(p(&style_judge));
-    args.extend_from_slice(&small);
-    let o = train(&["stylizer", "--ae", p(&ae)], &root, &root.join("wrong"), 2, &args);
-    assert!(!o.status.success() && stderr(&o).contains("not the 18 content classes"), "{}", stderr(&o));
     // A judge trained on other statistics (its run's norm.json beside it) is refused.
     let judge_run = root.join("judge2");
     ok(train(&["content-classifier"], &root, &judge_run, 2, &TINY));
@@ -280,6 +292,7 @@ fn stylizer_with_a_content_judge_trains_resumes_and_refuses_a_wrong_judge() {
     args.extend_from_slice(&small);
     let o = train(&["stylizer", "--ae", p(&ae)], &root, &root.join("other-norm"), 2, &args);
     assert!(!o.status.success() && stderr(&o).contains("other normalisation statistics"), "{}", stderr(&o));
+    assert!(!root.join("other-norm").exists(), "nothing written for a refused judge");
     let _ = std::fs::remove_dir_all(&root);
 }
 
@@ -300,8 +313,10 @@ fn bad_arguments_fail_with_a_clear_message() {
     let o = train(&["stylizer", "--ae", p(&out)], &root, &out, 2, &["--hsa=-1"]);
     assert!(!o.status.success() && stderr(&o).contains("--hsa -1"), "{}", stderr(&o));
     assert!(!out.exists(), "nothing written on a bad argument");
-    let o = train(&["stylizer", "--ae", p(&out)], &root, &out, 2, &["--content-class", "1"]);
-    assert!(!o.status.success() && stderr(&o).contains("needs --content-judge"), "{}", stderr(&o));
+    for (flag, needs) in [("--content-class", "needs --content-judge"), ("--style-class", "needs --style-judge")] {
+        let o = train(&["stylizer", "--ae", p(&out)], &root, &out, 2, &[flag, "1"]);
+        assert!(!o.status.success() && stderr(&o).contains(needs), "{}", stderr(&o));
+    }
     // The pairings that are judged by the style statistics need them.
     for flag in ["--cross-content", "--cross-set"] {
         let o = train(&["stylizer", "--ae", p(&out)], &root, &out, 2, &[flag]);

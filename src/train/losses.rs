@@ -191,6 +191,11 @@ pub struct StylizerWeights {
     /// content or data set must keep what the content is.
     #[serde(default)]
     pub content_class: f32,
+    /// `λ_judged_style` of the style-class loss (not in the paper: 0 there; supervised): every
+    /// swap `D(zᵗ)` is read by a frozen style classifier (the run's `style-judge.bin`), whose
+    /// cross-entropy against the swap's target label (its style source's) is added.
+    #[serde(default)]
+    pub style_class: f32,
 }
 
 /// What a stylizer run adds to the paper's recipe: losses (their weights; 0: not used), the
@@ -250,6 +255,16 @@ pub struct StylizerExtras {
     /// does not read its own judge.
     #[arg(long, value_name = "FILE")]
     pub content_judge: Option<PathBuf>,
+    /// Weight of the style-class loss (not in the paper; new supervised runs, with
+    /// --style-judge): every swap is read by a frozen style classifier, and its cross-entropy
+    /// against the swap's target label is added. 0: not used.
+    #[arg(long, default_value_t = 0.0, value_name = "WEIGHT")]
+    pub style_class: f32,
+    /// The style classifier that judges the swaps for --style-class (a classifier.bin of `train
+    /// classifier`; copied into the run folder as style-judge.bin). Train it apart from the one
+    /// `eval` measures with.
+    #[arg(long, value_name = "FILE")]
+    pub style_judge: Option<PathBuf>,
 }
 
 impl StylizerExtras {
@@ -261,6 +276,7 @@ impl StylizerExtras {
             ("--content-shape", self.content_shape),
             ("--hsa", self.hsa.unwrap_or(0.0)),
             ("--content-class", self.content_class),
+            ("--style-class", self.style_class),
         ] {
             if !(w.is_finite() && w >= 0.0) {
                 return Err(format!("{flag} {w}: the weight must be 0 or more"));
@@ -275,13 +291,21 @@ impl StylizerExtras {
                 ));
             }
         }
-        match (self.content_class > 0.0, &self.content_judge) {
-            (true, None) => {
-                Err("--content-class needs --content-judge FILE (the content classifier that judges the swaps)".into())
+        for (flag, weight, judge_flag, judge, what) in [
+            ("--content-class", self.content_class, "--content-judge", &self.content_judge, "content"),
+            ("--style-class", self.style_class, "--style-judge", &self.style_judge, "style"),
+        ] {
+            match (weight > 0.0, judge) {
+                (true, None) => {
+                    return Err(format!(
+                        "{flag} needs {judge_flag} FILE (the {what} classifier that judges the swaps)"
+                    ));
+                }
+                (false, Some(_)) => return Err(format!("{judge_flag} is used only with {flag} above 0")),
+                _ => {}
             }
-            (false, Some(_)) => Err("--content-judge is used only with --content-class above 0".into()),
-            _ => Ok(()),
         }
+        Ok(())
     }
 
     /// Whether a run departs from the paper's recipe (its [`StylizerWeights`] are then written
@@ -296,6 +320,7 @@ impl StylizerExtras {
             || self.cross_set_relative
             || self.content_posture
             || self.content_class > 0.0
+            || self.style_class > 0.0
     }
 }
 
@@ -312,6 +337,7 @@ impl StylizerWeights {
         cross_set: false,
         cross_set_relative: false,
         content_class: 0.0,
+        style_class: 0.0,
     };
     /// Paper, unsupervised: (hsa, cyc, kl) = (0.1, 1, 0.01).
     pub const UNSUPERVISED: Self = Self {
@@ -325,6 +351,7 @@ impl StylizerWeights {
         cross_set: false,
         cross_set_relative: false,
         content_class: 0.0,
+        style_class: 0.0,
     };
 
     /// The paper's weights for the given mode.
@@ -385,6 +412,17 @@ pub struct StylizerLosses {
     /// `L_class`: the content judge's cross-entropy on the swaps `D(zᵗ)` of the rows with a
     /// content class, against that class (0 without a judge, classes or weight).
     pub content_class: Tensor<1>,
+    /// The style judge's cross-entropy on every swap `D(zᵗ)` against its target label `sl³` (0
+    /// without a judge, labels or weight).
+    pub style_class: Tensor<1>,
+}
+
+/// The frozen classifiers that judge the swaps ([`StylizerWeights::content_class`],
+/// [`StylizerWeights::style_class`]); `None`: that loss is not used.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Judges<'a> {
+    pub content: Option<&'a StyleClassifier>,
+    pub style: Option<&'a StyleClassifier>,
 }
 
 impl StylizerInputs {
@@ -478,17 +516,17 @@ pub fn stylizer_loss(
     noise: &mut NoiseRng,
 ) -> StylizerLosses {
     let eps = StyleNoise::draw(noise, inputs.latent1.dims()[0], net.style_encoder.style_dim, &inputs.latent1.device());
-    stylizer_loss_drawn(net, decoder, None, inputs, weights, eps, LossShares::WHOLE)
+    stylizer_loss_drawn(net, decoder, Judges::default(), inputs, weights, eps, LossShares::WHOLE)
 }
 
 /// [`stylizer_loss`] with its reparameterisation noise drawn beforehand, and its total weighted
 /// as `shares` of a larger batch (a row group of [`super::parallel`]; the terms it reports are
-/// the group's own means), and `judge` the frozen content classifier of the content-class loss
-/// (`None`: no such loss).
+/// the group's own means), and `judges` the frozen classifiers of the content- and style-class
+/// losses.
 pub fn stylizer_loss_drawn(
     net: &Stylizer,
     decoder: &MotionDecoder,
-    judge: Option<&StyleClassifier>,
+    judges: Judges,
     inputs: &StylizerInputs,
     weights: &StylizerWeights,
     eps: StyleNoise,
@@ -559,14 +597,19 @@ pub fn stylizer_loss_drawn(
     let paired =
         (weights.style_stats > 0.0 && !inputs.content_paired.is_empty()).then(|| index(inputs.content_paired.clone()));
     // The content-class loss judges the rows with a content class.
-    let classed: Vec<(usize, usize)> = match judge {
+    let classed: Vec<(usize, usize)> = match judges.content {
         Some(_) if weights.content_class > 0.0 => {
             inputs.content_classes.iter().enumerate().filter_map(|(r, c)| c.map(|c| (r, c))).collect()
         }
         _ => Vec::new(),
     };
+    // The style-class loss judges every swap against its target label.
+    let style_judged = match (judges.style, &sl3) {
+        (Some(judge), Some(target)) if weights.style_class > 0.0 => Some((judge, target.clone())),
+        _ => None,
+    };
     // Every swap is decoded when a loss judges them all.
-    let shape = weights.content_shape > 0.0 || !classed.is_empty();
+    let shape = weights.content_shape > 0.0 || !classed.is_empty() || style_judged.is_some();
     let mut decoded = vec![r1.clone(), r2.clone(), rr2.clone(), rr3.clone()];
     let swaps = match (&paired, shape) {
         (_, true) => batch,
@@ -594,11 +637,18 @@ pub fn stylizer_loss_drawn(
         (Some(p), true) => self::content_shape(p.clone(), inputs.motion2.clone()),
         _ => Tensor::zeros([1], &device),
     };
-    let content_class = match (&swap_poses, judge) {
+    let content_class = match (&swap_poses, judges.content) {
         (Some(p), Some(judge)) if !classed.is_empty() => {
             let rows = index(classed.iter().map(|&(r, _)| r).collect());
             let classes: Vec<usize> = classed.iter().map(|&(_, c)| c).collect();
             cross_entropy(judge.forward(ae_input(p.clone().select(0, rows))).logits, &classes)
+        }
+        _ => Tensor::zeros([1], &device),
+    };
+    let style_class = match (&swap_poses, style_judged) {
+        (Some(p), Some((judge, target))) => {
+            let logits = judge.forward(ae_input(p.clone())).logits;
+            -(log_softmax(logits, 1) * target).sum_dim(1).mean()
         }
         _ => Tensor::zeros([1], &device),
     };
@@ -620,7 +670,8 @@ pub fn stylizer_loss_drawn(
         + hsa.clone() * (weights.hsa * share)
         + style_stats.clone() * (weights.style_stats * paired)
         + content_shape.clone() * (weights.content_shape * share)
-        + content_class.clone() * (weights.content_class * share);
+        + content_class.clone() * (weights.content_class * share)
+        + style_class.clone() * (weights.style_class * share);
     StylizerLosses {
         total,
         rec_latent,
@@ -632,6 +683,7 @@ pub fn stylizer_loss_drawn(
         style_stats,
         content_shape,
         content_class,
+        style_class,
     }
 }
 

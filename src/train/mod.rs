@@ -144,6 +144,28 @@ fn summary_from_logs(out: &std::path::Path, step: u64) -> anyhow::Result<TrainSu
     Ok(TrainSummary { step, losses: named(out.join(LOSS_CSV))?, heldout: named(out.join(EVAL_CSV))? })
 }
 
+/// The judges of a stylizer run's swaps, checked before the run folder is written: each names
+/// what its loss needs ([`stylizer::read_judge`]) and, for a new run whose judge has its run's
+/// `norm.json` beside it, reads features normalised as the stylizer's (a resumed run's were
+/// checked when it started).
+fn check_judges(run: &rundir::OpenRun, norm: &crate::features::NormStats) -> anyhow::Result<()> {
+    for (judge, judged, flag) in [
+        (&run.content_judge, stylizer::Judged::Content, "--content-judge"),
+        (&run.style_judge, stylizer::Judged::Style, "--style-judge"),
+    ] {
+        let Some(judge) = judge else { continue };
+        stylizer::read_judge(&judge.bytes, judged, &run.config.model).with_context(|| flag.to_string())?;
+        if let Some(own) = &judge.norm {
+            ensure!(
+                own == norm,
+                "{flag}: the classifier was trained on other normalisation statistics than the stylizer's (its run's \
+                 norm.json differs)"
+            );
+        }
+    }
+    Ok(())
+}
+
 /// Trains `stage` as `opts` asks (see the module docs).
 pub fn train(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<TrainSummary> {
     let started = Instant::now();
@@ -169,6 +191,7 @@ pub fn train(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<TrainSummary>
     }
     let t_load = Instant::now();
     let data = TrainData::load(opts, &mut run.config, run.norm.take(), &device, &say)?;
+    check_judges(&run, &data.norm)?;
     let log = rundir::begin_segment(opts, &run, &data.norm, t_load.elapsed().as_secs_f64(), device_name)?;
     let start = runner::Start { resume_from: run.resume_from.as_ref(), log, started };
 
@@ -208,17 +231,12 @@ pub fn train(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<TrainSummary>
             let supervised = model.supervised;
             let mut trainer = StylizerTrainer::new(model, train, nets.autoencoder, &device, seed);
             if let Some(judge) = &run.content_judge {
-                // Its features must be normalised as the stylizer's (a new run's judge with its
-                // run's statistics beside it; a resumed run's was checked when it started).
-                if let Some(norm) = &judge.norm {
-                    ensure!(
-                        *norm == data.norm,
-                        "--content-judge: the content classifier was trained on other normalisation statistics \
-                         than the stylizer's (its run's norm.json differs)"
-                    );
-                }
                 trainer.set_content_judge(&judge.bytes, &device).context("--content-judge")?;
                 say("the swaps are judged by the content classifier (content-class loss)".to_string());
+            }
+            if let Some(judge) = &run.style_judge {
+                trainer.set_style_judge(&judge.bytes, &device).context("--style-judge")?;
+                say("the swaps are judged by the style classifier (style-class loss)".to_string());
             }
             if let Some(dir) = from {
                 let setting = if supervised { Setting::Supervised } else { Setting::Unsupervised };

@@ -8,11 +8,12 @@
 //! | `checkpoint.bin` | latest checkpoint: [`CheckpointMeta`] + burnpack bytes of the networks (f32) |
 //! | `ae.bin` | stylizer runs: the frozen autoencoder + regressor checkpoint it trains on (a copy) |
 //! | `content-judge.bin` | stylizer runs with `--content-class`: the frozen content classifier (a copy) |
+//! | `style-judge.bin` | stylizer runs with `--style-class`: the frozen style classifier (a copy) |
 //! | `loss.csv` | one row per step: step, elapsed_s, every loss term of the step report, lr |
 //! | `eval.csv` | one row per evaluation: step, elapsed_s, held-out metrics |
 //!
 //! Files that must never be seen half-written (`checkpoint.bin`, `run.json`, `config.json`,
-//! `norm.json`, `ae.bin`, `content-judge.bin`) are written to a temporary name in the same folder, synced, then renamed
+//! `norm.json`, `ae.bin`, the judges) are written to a temporary name in the same folder, synced, then renamed
 //! over the old one.
 
 use anyhow::{Context, bail, ensure};
@@ -41,6 +42,7 @@ pub const NORM: &str = "norm.json";
 pub const CHECKPOINT: &str = "checkpoint.bin";
 pub const AE_COPY: &str = "ae.bin";
 pub const CONTENT_JUDGE: &str = "content-judge.bin";
+pub const STYLE_JUDGE: &str = "style-judge.bin";
 /// Adam's state at the checkpoint's step: the step (u64 LE), then the trainer's optimizer bytes.
 pub const OPTIMIZER: &str = "optimizer.bin";
 pub const LOSS_CSV: &str = "loss.csv";
@@ -84,6 +86,10 @@ pub struct RunConfig {
     /// `content-judge.bin` (as given).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub content_judge: Option<String>,
+    /// Stylizer runs with the style-class loss: the style classifier copied in as
+    /// `style-judge.bin` (as given).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub style_judge: Option<String>,
 }
 
 /// What a run on a folder of the user's files fixes at its start.
@@ -262,6 +268,7 @@ fn stylizer_train(supervised: bool, extra: &StylizerExtras) -> TrainConfig {
         cross_set: extra.cross_set,
         cross_set_relative: extra.cross_set_relative,
         content_class: extra.content_class,
+        style_class: extra.style_class,
         hsa: extra.hsa.unwrap_or(paper.hsa),
         ..paper
     });
@@ -279,11 +286,13 @@ pub struct OpenRun {
     /// the training clips).
     pub norm: Option<NormStats>,
     /// Stylizer runs with the content-class loss: the content classifier that judges the swaps.
-    pub content_judge: Option<ContentJudge>,
+    pub content_judge: Option<JudgeFile>,
+    /// Stylizer runs with the style-class loss: the style classifier that judges the swaps.
+    pub style_judge: Option<JudgeFile>,
 }
 
-/// The content classifier of a stylizer run's content-class loss.
-pub struct ContentJudge {
+/// A classifier that judges a stylizer run's swaps (the content- or style-class loss).
+pub struct JudgeFile {
     /// Its file's bytes ([`crate::model::weights::save_classifier`]).
     pub bytes: Vec<u8>,
     /// The statistics it was trained on, when its run folder holds them (a new run's judge must
@@ -291,13 +300,13 @@ pub struct ContentJudge {
     pub norm: Option<NormStats>,
 }
 
-impl ContentJudge {
+impl JudgeFile {
     /// A classifier file and, when beside it, its run's `norm.json`.
-    fn read(path: &Path) -> anyhow::Result<ContentJudge> {
-        let bytes = std::fs::read(path).with_context(|| format!("--content-judge {}: cannot read", path.display()))?;
+    fn read(path: &Path) -> anyhow::Result<JudgeFile> {
+        let bytes = std::fs::read(path).with_context(|| format!("{}: cannot read the judge", path.display()))?;
         let norm_path = path.parent().unwrap_or(Path::new(".")).join(NORM);
         let norm = norm_path.is_file().then(|| read_json(&norm_path)).transpose()?;
-        Ok(ContentJudge { bytes, norm })
+        Ok(JudgeFile { bytes, norm })
     }
 }
 
@@ -341,15 +350,19 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
         let resume_from = if ckpt_path.exists() { Some(Checkpoint::read(&ckpt_path)?) } else { None };
         let ae = if config.stage == "stylizer" { Some(Checkpoint::read(&out.join(AE_COPY))?) } else { None };
         let norm: NormStats = read_json(&out.join(NORM))?;
-        let judged = config.train.stylizer_weights.is_some_and(|w| w.content_class > 0.0);
-        let content_judge = judged
-            .then(|| -> anyhow::Result<_> {
-                let bytes = std::fs::read(out.join(CONTENT_JUDGE))
-                    .with_context(|| format!("--resume: {} holds no {CONTENT_JUDGE}", out.display()))?;
-                Ok(ContentJudge { bytes, norm: None })
-            })
-            .transpose()?;
-        return Ok(OpenRun { config, resume_from, ae, norm: Some(norm), content_judge });
+        let weights = config.train.stylizer_weights;
+        let copy = |judged: bool, name: &str| -> anyhow::Result<Option<JudgeFile>> {
+            judged
+                .then(|| {
+                    let bytes = std::fs::read(out.join(name))
+                        .with_context(|| format!("--resume: {} holds no {name}", out.display()))?;
+                    Ok(JudgeFile { bytes, norm: None })
+                })
+                .transpose()
+        };
+        let content_judge = copy(weights.is_some_and(|w| w.content_class > 0.0), CONTENT_JUDGE)?;
+        let style_judge = copy(weights.is_some_and(|w| w.style_class > 0.0), STYLE_JUDGE)?;
+        return Ok(OpenRun { config, resume_from, ae, norm: Some(norm), content_judge, style_judge });
     }
     ensure!(
         !is_nonempty_dir(out),
@@ -408,6 +421,7 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
         folder,
         from: opts.from.as_ref().map(|p| p.display().to_string()),
         content_judge: None,
+        style_judge: None,
     };
     let start_norm = from.map(|f| f.norm);
     Ok(match stage {
@@ -420,6 +434,7 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
             ae: None,
             norm: start_norm,
             content_judge: None,
+            style_judge: None,
         },
         Stage::Classifier => OpenRun {
             config: RunConfig {
@@ -430,6 +445,7 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
             ae: None,
             norm: start_norm,
             content_judge: None,
+            style_judge: None,
         },
         Stage::ContentClassifier => OpenRun {
             config: RunConfig {
@@ -442,6 +458,7 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
             ae: None,
             norm: None,
             content_judge: None,
+            style_judge: None,
         },
         Stage::Stylizer { ae: None, supervised, extra } if opts.from.is_some() => {
             // Fine-tuning a stylizer alone: the frozen autoencoder and regressor are the weights
@@ -467,10 +484,12 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
                 sampler: stylizer_sampler(extra),
                 train: stylizer_train(*supervised, extra),
                 content_judge: extra.content_judge.as_ref().map(|p| p.display().to_string()),
+                style_judge: extra.style_judge.as_ref().map(|p| p.display().to_string()),
                 ..base
             };
-            let content_judge = extra.content_judge.as_deref().map(ContentJudge::read).transpose()?;
-            OpenRun { config, resume_from: None, ae: Some(ae_ckpt), norm: Some(norm), content_judge }
+            let content_judge = extra.content_judge.as_deref().map(JudgeFile::read).transpose()?;
+            let style_judge = extra.style_judge.as_deref().map(JudgeFile::read).transpose()?;
+            OpenRun { config, resume_from: None, ae: Some(ae_ckpt), norm: Some(norm), content_judge, style_judge }
         }
         Stage::Stylizer { ae, supervised, extra } => {
             let ae = ae.as_ref().context("the stylizer stage needs --ae DIR (an `ae` run), or --from WEIGHTS")?;
@@ -506,10 +525,12 @@ pub fn open(stage: &Stage, opts: &TrainOptions) -> anyhow::Result<OpenRun> {
                 sampler: stylizer_sampler(extra),
                 train: stylizer_train(*supervised, extra),
                 content_judge: extra.content_judge.as_ref().map(|p| p.display().to_string()),
+                style_judge: extra.style_judge.as_ref().map(|p| p.display().to_string()),
                 ..base
             };
-            let content_judge = extra.content_judge.as_deref().map(ContentJudge::read).transpose()?;
-            OpenRun { config, resume_from: None, ae: Some(ae_ckpt), norm: Some(norm), content_judge }
+            let content_judge = extra.content_judge.as_deref().map(JudgeFile::read).transpose()?;
+            let style_judge = extra.style_judge.as_deref().map(JudgeFile::read).transpose()?;
+            OpenRun { config, resume_from: None, ae: Some(ae_ckpt), norm: Some(norm), content_judge, style_judge }
         }
     })
 }
@@ -532,8 +553,10 @@ pub fn begin_segment(
         if let Some(ae) = &run.ae {
             write_atomic(&out.join(AE_COPY), &ae.to_bytes()?)?;
         }
-        if let Some(judge) = &run.content_judge {
-            write_atomic(&out.join(CONTENT_JUDGE), &judge.bytes)?;
+        for (judge, name) in [(&run.content_judge, CONTENT_JUDGE), (&run.style_judge, STYLE_JUDGE)] {
+            if let Some(judge) = judge {
+                write_atomic(&out.join(name), &judge.bytes)?;
+            }
         }
     }
     write_json(&out.join(CONFIG), &run.config)?;

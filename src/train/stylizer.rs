@@ -7,7 +7,9 @@ use burn::prelude::*;
 
 use super::data::TrainData;
 use super::eval;
-use super::losses::{LossShares, StatsOffset, StyleNoise, StylizerInputs, StylizerWeights, stylizer_loss_drawn};
+use super::losses::{
+    Judges, LossShares, StatsOffset, StyleNoise, StylizerInputs, StylizerWeights, stylizer_loss_drawn,
+};
 use super::optim::{
     adam, clip_factor, clip_grad_norm, optimizers_from_bytes, optimizers_to_bytes, scale_grads, squared_norm_parts,
     total_norm,
@@ -81,6 +83,8 @@ step_report! {
         pub content_shape,
         /// The content judge's cross-entropy on the swaps (0 without it).
         pub content_class,
+        /// The style judge's cross-entropy on the swaps (0 without it).
+        pub style_class,
         /// Gradient norms before clipping: content + style encoders, generator.
         pub encoders_grad_norm,
         pub generator_grad_norm,
@@ -104,6 +108,8 @@ pub struct StylizerTrainer {
     /// The frozen content classifier of the content-class loss
     /// ([`StylizerWeights::content_class`]), on the autodiff device.
     content_judge: Option<StyleClassifier>,
+    /// The frozen style classifier of the style-class loss ([`StylizerWeights::style_class`]).
+    style_judge: Option<StyleClassifier>,
     optim: ModuleOptimizer,
     noise: NoiseRng,
     device: Device,
@@ -134,6 +140,7 @@ impl StylizerTrainer {
             autoencoder,
             net,
             content_judge: None,
+            style_judge: None,
             optim: adam(),
             noise: NoiseRng::new(seed ^ NOISE_SALT),
             device,
@@ -146,17 +153,15 @@ impl StylizerTrainer {
     /// device (`device`: its plain side, as given to [`StylizerTrainer::new`]). It must classify
     /// [`CONTENTS`]' classes.
     pub fn set_content_judge(&mut self, bytes: &[u8], device: &Device) -> Result<(), ModelError> {
-        let (config, judge) = load_classifier(bytes, &Device::flex())?;
-        if config.num_styles != CONTENTS.len() {
-            return Err(ModelError::Label(format!(
-                "the content judge classifies {} classes, not the {} content classes (a style classifier?)",
-                config.num_styles,
-                CONTENTS.len()
-            )));
-        }
-        // Read on flex (the file is f16), then moved: not every device has f16 tensors.
-        let judge = if *device == Device::flex() { judge } else { judge.to_device(device) };
-        self.content_judge = Some(judge.train().freeze());
+        self.content_judge = Some(frozen_on(read_judge(bytes, Judged::Content, &self.config)?, device));
+        Ok(())
+    }
+
+    /// Sets the style classifier of the style-class loss from its file's bytes, as
+    /// [`StylizerTrainer::set_content_judge`]. It must classify the run's style labels, and the
+    /// run must be supervised (the swaps' target labels).
+    pub fn set_style_judge(&mut self, bytes: &[u8], device: &Device) -> Result<(), ModelError> {
+        self.style_judge = Some(frozen_on(read_judge(bytes, Judged::Style, &self.config)?, device));
         Ok(())
     }
 
@@ -271,12 +276,12 @@ impl StylizerTrainer {
             })
             .collect();
         let (net, decoder, weights) = (&self.net, &self.autoencoder.decoder, &self.weights);
-        let judge = self.content_judge.as_ref();
+        let judges = Judges { content: self.content_judge.as_ref(), style: self.style_judge.as_ref() };
         let replicas: Vec<Replica<Stylizer>> = groups.iter().map(|_| Replica::of(net)).collect();
         let losses = map_parallel(groups.len(), |i| {
             let group = inputs.rows(groups[i].clone());
             let eps = eps.rows(groups[i].clone());
-            stylizer_loss_drawn(&replicas[i].module, decoder, judge, &group, weights, eps, shares[i])
+            stylizer_loss_drawn(&replicas[i].module, decoder, judges, &group, weights, eps, shares[i])
         });
 
         let t1 = Instant::now();
@@ -296,22 +301,34 @@ impl StylizerTrainer {
         let t3 = Instant::now();
 
         // The batch's terms: each group's means weighted by its shares (the totals carry theirs).
-        let [loss, rec_latent, rec_pose, cyc_latent, cyc_pose, kl, hsa, style_stats, content_shape, content_class] =
-            weighted_terms(shares.iter().zip(losses).map(|(&LossShares { rows: r, paired }, l)| {
-                let values = [
-                    l.total,
-                    l.rec_latent,
-                    l.rec_pose,
-                    l.cyc_latent,
-                    l.cyc_pose,
-                    l.kl,
-                    l.hsa,
-                    l.style_stats,
-                    l.content_shape,
-                    l.content_class,
-                ];
-                (values, [1.0, r, r, r, r, r, r, paired, r, r])
-            }));
+        let [
+            loss,
+            rec_latent,
+            rec_pose,
+            cyc_latent,
+            cyc_pose,
+            kl,
+            hsa,
+            style_stats,
+            content_shape,
+            content_class,
+            style_class,
+        ] = weighted_terms(shares.iter().zip(losses).map(|(&LossShares { rows: r, paired }, l)| {
+            let values = [
+                l.total,
+                l.rec_latent,
+                l.rec_pose,
+                l.cyc_latent,
+                l.cyc_pose,
+                l.kl,
+                l.hsa,
+                l.style_stats,
+                l.content_shape,
+                l.content_class,
+                l.style_class,
+            ];
+            (values, [1.0, r, r, r, r, r, r, paired, r, r, r])
+        }));
         self.net = self.optim.step(self.train.lr, self.net.clone(), g);
         if let Some(p) = &mut self.phases {
             p.add([t0, t1, t2, t3, Instant::now()]);
@@ -327,10 +344,48 @@ impl StylizerTrainer {
             style_stats,
             content_shape,
             content_class,
+            style_class,
             encoders_grad_norm,
             generator_grad_norm,
         })
     }
+}
+
+/// What a judge of the swaps names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Judged {
+    /// The content classes ([`CONTENTS`]): the content-class loss.
+    Content,
+    /// The run's style labels (supervised runs): the style-class loss.
+    Style,
+}
+
+/// A judge's classifier from its file's bytes (on flex), checked against what it must name for a
+/// stylizer of `config` (`train` checks this before it writes a run folder).
+pub fn read_judge(bytes: &[u8], judged: Judged, config: &ModelConfig) -> Result<StyleClassifier, ModelError> {
+    if judged == Judged::Style && !config.supervised {
+        return Err(ModelError::Label("a style judge needs a supervised run (the swaps' target labels)".into()));
+    }
+    let (judge_config, judge) = load_classifier(bytes, &Device::flex())?;
+    let classes = judge_config.num_styles;
+    match judged {
+        Judged::Content if classes != CONTENTS.len() => Err(ModelError::Label(format!(
+            "the content judge classifies {classes} classes, not the {} content classes (a style classifier?)",
+            CONTENTS.len()
+        ))),
+        Judged::Style if classes != config.num_styles => Err(ModelError::Label(format!(
+            "the style judge classifies {classes} classes, not the run's {} style labels",
+            config.num_styles
+        ))),
+        _ => Ok(judge),
+    }
+}
+
+/// A judge read on flex (its file is f16), moved to `device` (not every device has f16 tensors),
+/// frozen on its autodiff side.
+fn frozen_on(judge: StyleClassifier, device: &Device) -> StyleClassifier {
+    let judge = if *device == Device::flex() { judge } else { judge.to_device(device) };
+    judge.train().freeze()
 }
 
 /// `[B, 260]` mean and spread offsets: `+offset` on each listed row, `−offset` on the row after
