@@ -126,12 +126,14 @@ for (const rel of CONTENTS) {
       const worst = worstError(gltf.scene, clip, objects, o, scale, turn);
       assert.ok(worst < TOLERANCE_M, `worst joint error ${worst} m`);
 
-      // Upright: the head above the hips in Y (glTF is Y up), on every rig.
+      // Upright: the head above the hips in Y (glTF is Y up), on every rig. An orientation check
+      // (a wrong up axis puts the head level with or below the hips), not a posture one: `old` on
+      // the crouching CMU-31 content hunches to 0.24-0.31 m over its frames.
       const names = o.skeleton.names.map((n) => n.toLowerCase());
       const head = names.findIndex((n) => n.includes('head'));
       const hips = names.findIndex((n) => n.includes('hip') || n.includes('pelvis'));
       const p = o.positions();
-      assert.ok(expected(p, joints, 0, head, scale, turn).y - expected(p, joints, 0, hips, scale, turn).y > 0.3, 'head above hips');
+      assert.ok(expected(p, joints, 0, head, scale, turn).y - expected(p, joints, 0, hips, scale, turn).y > 0.2, 'head above hips');
       o.free();
     });
   }
