@@ -185,13 +185,13 @@ pub struct StylizerWeights {
     /// own set's `normal`) and not its set's capture. `false`: the partner's raw statistics.
     #[serde(default)]
     pub cross_set_relative: bool,
-    /// `λ_class` of the content-class loss (not in the paper: 0 there): every swap `D(zᵗ)` is
+    /// `λ_content_class` of the content-class loss (not in the paper: 0 there): every swap `D(zᵗ)` is
     /// read by a frozen content classifier (the run's `content-judge.bin`), whose cross-entropy
     /// against the content class of the swap's content clip is added, so a style from another
     /// content or data set must keep what the content is.
     #[serde(default)]
     pub content_class: f32,
-    /// `λ_judged_style` of the style-class loss (not in the paper: 0 there; supervised): every
+    /// `λ_style_class` of the style-class loss (not in the paper: 0 there; supervised): every
     /// swap `D(zᵗ)` is read by a frozen style classifier (the run's `style-judge.bin`), whose
     /// cross-entropy against the swap's target label (its style source's) is added.
     #[serde(default)]
@@ -409,7 +409,7 @@ pub struct StylizerLosses {
     pub style_stats: Tensor<1>,
     /// `L_shape`: [`content_shape`] of every swap `D(zᵗ)` against `P²` (0 when its weight is 0).
     pub content_shape: Tensor<1>,
-    /// `L_class`: the content judge's cross-entropy on the swaps `D(zᵗ)` of the rows with a
+    /// `L_content_class`: the content judge's cross-entropy on the swaps `D(zᵗ)` of the rows with a
     /// content class, against that class (0 without a judge, classes or weight).
     pub content_class: Tensor<1>,
     /// The style judge's cross-entropy on every swap `D(zᵗ)` against its target label `sl³` (0
