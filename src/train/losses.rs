@@ -77,6 +77,11 @@ pub fn latent_smoothness(z: Tensor<3>) -> Tensor<1> {
 pub fn cross_entropy(logits: Tensor<2>, labels: &[usize]) -> Tensor<1> {
     let [_, c] = logits.dims();
     let target = one_hot(labels, c, &logits.device());
+    cross_entropy_one_hot(logits, target)
+}
+
+/// [`cross_entropy`] against one-hot targets `[B, C]`.
+pub fn cross_entropy_one_hot(logits: Tensor<2>, target: Tensor<2>) -> Tensor<1> {
     -(log_softmax(logits, 1) * target).sum_dim(1).mean()
 }
 
@@ -646,10 +651,7 @@ pub fn stylizer_loss_drawn(
         _ => Tensor::zeros([1], &device),
     };
     let style_class = match (&swap_poses, style_judged) {
-        (Some(p), Some((judge, target))) => {
-            let logits = judge.forward(ae_input(p.clone())).logits;
-            -(log_softmax(logits, 1) * target).sum_dim(1).mean()
-        }
+        (Some(p), Some((judge, target))) => cross_entropy_one_hot(judge.forward(ae_input(p.clone())).logits, target),
         _ => Tensor::zeros([1], &device),
     };
     let rec_latent = smooth_l1(r1, z1) + smooth_l1(r2, z2.clone());
