@@ -58,6 +58,7 @@ pub mod losses;
 pub mod optim;
 pub mod parallel;
 pub mod progress;
+pub mod recipe;
 pub mod rundir;
 pub mod runner;
 pub mod sampler;

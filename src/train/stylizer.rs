@@ -313,21 +313,9 @@ impl StylizerTrainer {
             content_shape,
             content_class,
             style_class,
-        ] = weighted_terms(shares.iter().zip(losses).map(|(&LossShares { rows: r, paired }, l)| {
-            let values = [
-                l.total,
-                l.rec_latent,
-                l.rec_pose,
-                l.cyc_latent,
-                l.cyc_pose,
-                l.kl,
-                l.hsa,
-                l.style_stats,
-                l.content_shape,
-                l.content_class,
-                l.style_class,
-            ];
-            (values, [1.0, r, r, r, r, r, r, paired, r, r, r])
+        ] = weighted_terms(shares.iter().zip(losses).map(|(&shares, l)| {
+            let terms = l.into_terms(shares);
+            (terms.clone().map(|(value, _)| value), terms.map(|(_, share)| share))
         }));
         self.net = self.optim.step(self.train.lr, self.net.clone(), g);
         if let Some(p) = &mut self.phases {
