@@ -7,27 +7,30 @@ use std::path::PathBuf;
 use serde::{Deserialize, Serialize};
 
 /// Weights of the stylizer's loss `L = λ_rec L_rec + λ_hsa L_hsa + λ_cyc L_cyc + λ_kl L_kl
-/// (+ λ_stats L_stats + λ_shape L_shape)`.
+/// (+ λ_stats L_stats + λ_shape L_shape + λ_content_class L_content_class + λ_style_class
+/// L_style_class)`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct StylizerWeights {
     pub rec: f32,
     pub hsa: f32,
     pub cyc: f32,
     pub kl: f32,
-    /// `λ_stats` of the style-statistics loss on content-paired swaps ([`style_statistics`](super::statistics::style_statistics); not
-    /// in the paper: 0 there). A run with it above 0 draws content-paired batch rows
+    /// `λ_stats` of the style-statistics loss on content-paired swaps
+    /// ([`style_statistics`](super::statistics::style_statistics); not in the paper: 0 there). A
+    /// run with it above 0 draws content-paired batch rows
     /// ([`super::sampler::WindowSampler::content_partner`]).
     #[serde(default)]
     pub style_stats: f32,
-    /// `λ_shape` of the content-shape loss on every swap ([`content_shape`](super::statistics::content_shape); not in the paper:
-    /// 0 there).
+    /// `λ_shape` of the content-shape loss on every swap
+    /// ([`content_shape`](super::statistics::content_shape); not in the paper: 0 there).
     #[serde(default)]
     pub content_shape: f32,
     /// Cross-content swaps (not in the paper; needs `style_stats` above 0): a content-paired row's
     /// swap takes its style from a take of its partner's style and *another* content, and is
     /// still judged by the partner's statistics, so the content's own posture and curves must
     /// come through the content code (rows 4k, 4k+1: the pair; 4k+2, 4k+3: the style sources;
-    /// [`StylizerInputs::style_source`](super::losses::StylizerInputs::style_source)). `false`: the partner is the style source.
+    /// [`StylizerInputs::style_source`](super::losses::StylizerInputs::style_source)). `false`:
+    /// the partner is the style source.
     #[serde(default)]
     pub cross_content: bool,
     /// Content pairs across the data sets (not in the paper; needs `style_stats` above 0): a
@@ -38,8 +41,9 @@ pub struct StylizerWeights {
     pub cross_set: bool,
     /// With [`cross_set`](Self::cross_set): a pair across the sets is judged by its partner's
     /// statistics moved by the difference of the two sets' `normal` takes of the content
-    /// ([`StatsOffset`](super::statistics::StatsOffset)), so the target carries the partner's *style* (its difference from its
-    /// own set's `normal`) and not its set's capture. `false`: the partner's raw statistics.
+    /// ([`StatsOffset`](super::statistics::StatsOffset)), so the target carries the partner's
+    /// *style* (its difference from its own set's `normal`) and not its set's capture. `false`:
+    /// the partner's raw statistics.
     #[serde(default)]
     pub cross_set_relative: bool,
     /// `λ_content_class` of the content-class loss (not in the paper: 0 there): every swap `D(zᵗ)` is
