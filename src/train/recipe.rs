@@ -200,20 +200,8 @@ impl StylizerWeights {
         content_class: 0.0,
         style_class: 0.0,
     };
-    /// Paper, unsupervised: (hsa, cyc, kl) = (0.1, 1, 0.01).
-    pub const UNSUPERVISED: Self = Self {
-        rec: 1.0,
-        hsa: 0.1,
-        cyc: 1.0,
-        kl: 0.01,
-        style_stats: 0.0,
-        content_shape: 0.0,
-        cross_content: false,
-        cross_set: false,
-        cross_set_relative: false,
-        content_class: 0.0,
-        style_class: 0.0,
-    };
+    /// Paper, unsupervised: (hsa, cyc, kl) = (0.1, 1, 0.01); none of the additions, as supervised.
+    pub const UNSUPERVISED: Self = Self { hsa: 0.1, cyc: 1.0, kl: 0.01, ..Self::SUPERVISED };
 
     /// The paper's weights for the given mode.
     pub fn paper(supervised: bool) -> Self {
